@@ -1,0 +1,75 @@
+// SPDX-License-Identifier: MIT
+// A scenario as loaded and validated from YAML (docs/scenario.md has the schema).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "nav/common/geodesy.hpp"
+#include "nav/common/result.hpp"
+#include "nav/common/time.hpp"
+#include "nav/emulators/device.hpp"
+#include "nav/emulators/truth.hpp"
+
+namespace nav::bench {
+
+enum class TimeMode { kRealtime, kLockstep };
+
+/// One emulated device on its own serial line.
+struct DeviceSpec {
+  enum class Type { kMicrostrainGx3, kNmeaGps };
+  std::string name;     ///< unique in the scenario; used in "{port:NAME}" and captures
+  Type type = Type::kMicrostrainGx3;
+  std::string port = "pty";  ///< "pty" or a device path such as /dev/ttyUSB0
+  int baud = 115200;         ///< line rate [bit/s]; 8N1 = 10 bits per byte
+  emulators::Gx3Config gx3;  ///< when type == kMicrostrainGx3
+  emulators::GpsConfig gps;  ///< when type == kNmeaGps (datum filled from the scenario)
+};
+
+/// The DUT and how to talk to it.
+struct DutSpec {
+  std::vector<std::string> command;  ///< argv; "{port:NAME}" is replaced by NAME's port path
+  std::string output_port = "pty";   ///< where the DUT writes ("pty" or a device path)
+  int output_baud = 115200;          ///< [bit/s]
+  std::string trigger;               ///< device whose messages the DUT answers
+  Duration startup{std::chrono::milliseconds(500)};  ///< wait before scenario time 0
+  Duration watchdog{std::chrono::seconds(2)};        ///< no answer this long = hung
+};
+
+/// One check of the DUT's output against truth.
+struct CheckSpec {
+  enum class Kind { kHorizontalError, kVerticalError, kAttitudeError, kEndpointError,
+                    kDeadline, kDutAlive };
+  Kind kind = Kind::kHorizontalError;
+  double max = 0.0;            ///< limit [m], [rad] or, for deadline, latency [s]
+  double max_per_distance = 0.0;  ///< envelope grows with distance travelled [m/m] (errors)
+  Duration after{0};           ///< judged only from this scenario time on
+  std::string input;           ///< deadline: the trigger device
+  int max_misses = 0;          ///< deadline: tolerated misses
+  std::string name;            ///< display name ("horizontal_error", ...)
+};
+
+struct Scenario {
+  std::string file;          ///< path it was loaded from
+  std::string name;
+  std::string description;
+  std::uint64_t seed = 0;
+  Duration duration{};
+  TimeMode mode = TimeMode::kRealtime;
+  geodesy::Geodetic datum;
+  std::string vehicle_name = "vehicle";
+  emulators::TrajectorySpec trajectory;
+  std::vector<DeviceSpec> devices;
+  DutSpec dut;
+  std::vector<CheckSpec> checks;
+  double truth_rate_hz = 50.0;           ///< truth.tum sample rate [Hz]
+  Duration lateness_budget_p99{std::chrono::milliseconds(5)};  ///< bench-late above this
+};
+
+/// Loads and validates a scenario. On failure the error detail is one line
+/// "file:line:col: what was expected".
+Result<Scenario> load_scenario(const std::string& path);
+
+}  // namespace nav::bench
