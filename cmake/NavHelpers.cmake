@@ -13,7 +13,10 @@ function(nav_add_test)
   target_compile_definitions(${T_NAME} PRIVATE
     NAV_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
     NAV_BINARY_DIR="${CMAKE_RUNTIME_OUTPUT_DIRECTORY}")
-  gtest_discover_tests(${T_NAME}
-    PROPERTIES LABELS "${T_LABELS}"
-    DISCOVERY_TIMEOUT 60)
+  set(props LABELS "${T_LABELS}" TIMEOUT 300)
+  if("integration" IN_LIST T_LABELS)
+    # Integration tests measure timing on ptys: never alongside another test.
+    list(APPEND props RUN_SERIAL TRUE)
+  endif()
+  gtest_discover_tests(${T_NAME} PROPERTIES ${props} DISCOVERY_TIMEOUT 60)
 endfunction()

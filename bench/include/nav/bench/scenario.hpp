@@ -66,6 +66,9 @@ struct Scenario {
   std::vector<CheckSpec> checks;
   double truth_rate_hz = 50.0;           ///< truth.tum sample rate [Hz]
   Duration lateness_budget_p99{std::chrono::milliseconds(5)};  ///< bench-late above this
+  /// "file:line:col" of each path segment, parallel to trajectory.segments, so that an error
+  /// of TruthTrajectory::build naming "segment i" (0-based) can point into the file.
+  std::vector<std::string> segment_locations;
 };
 
 /// Loads and validates a scenario. On failure the error detail is one line

@@ -27,6 +27,11 @@ struct WireMessage {
 /// name mixed with the seed by splitmix64): stable across platforms and runs.
 std::uint64_t device_seed(std::uint64_t scenario_seed, std::string_view device_name);
 
+/// One standard normal draw N(0, 1) from exactly two raw outputs of the engine (Box-Muller,
+/// cosine branch, no cached second value): unlike std::normal_distribution, whose algorithm
+/// is left to the library, the sequence is the same with every standard library.
+double standard_normal(std::mt19937_64& rng);
+
 /// Per-axis error model of a triad (same parameters on each axis).
 struct TriadErrors {
   double white_std = 0.0;      ///< white noise standard deviation per sample [unit]
@@ -38,8 +43,12 @@ struct TriadErrors {
 class TriadErrorModel {
  public:
   explicit TriadErrorModel(const TriadErrors& e) : e_(e), walk_(Vec3::Zero()) {}
-  /// Truth plus errors; dt_s advances the random walk [s].
+  /// Truth plus errors; dt_s advances the random walk [s] (0 for the first sample).
+  /// Always draws six normals in this order: walk x, y, z, then white x, y, z (also when a
+  /// standard deviation is 0, so enabling one error term leaves the others' draws unchanged).
   Vec3 apply(const Vec3& truth, double dt_s, std::mt19937_64& rng);
+  /// Current bias random-walk state [unit].
+  const Vec3& walk() const { return walk_; }
 
  private:
   TriadErrors e_;

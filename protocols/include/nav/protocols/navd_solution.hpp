@@ -13,6 +13,12 @@ namespace nav::protocols::navd {
 
 inline constexpr const char* kAddress = "PNVBSOL";  ///< talker "P" + "NVBSOL"
 
+/// Length limit for reading $PNVBSOL ('$' through the checksum) [chars]. A full-precision
+/// solution can exceed gpsd's 130 (nmea::kMaxSentence), so read navd output with
+/// nmea::parse_with_limit(buffer, navd::kMaxSentence). 256 holds a 20-digit tag and seq,
+/// 16-char input and status, |depth| < 1e6 m and |v| < 1e4 m/s.
+inline constexpr std::size_t kMaxSentence = 256;
+
 /// One navigation solution.
 struct Solution {
   std::string input;             ///< trigger input role, e.g. "AHRS"

@@ -31,6 +31,10 @@ std::string frame(const Sentence& s);
 /// Accepts CRLF or bare LF; a missing or wrong checksum is malformed.
 ParseResult<Sentence> parse(ByteSpan buffer);
 
+/// As parse(), with another length limit ('$' through the checksum) [chars]: for
+/// sentences not meant for gpsd that can be longer, e.g. navd::kMaxSentence for $PNVBSOL.
+ParseResult<Sentence> parse_with_limit(ByteSpan buffer, std::size_t max_sentence);
+
 /// UTC time of day and date as carried by NMEA sentences.
 struct UtcTime {
   int year = 0, month = 0, day = 0;  ///< date (RMC/ZDA); 0 when absent
@@ -72,5 +76,14 @@ Sentence to_sentence(const Rmc& r, std::string talker = "GP");
 /// Decodes GGA / RMC fields; a field that does not parse is an error naming it.
 Result<Gga> decode_gga(const Sentence& s);
 Result<Rmc> decode_rmc(const Sentence& s);
+
+/// Field text helpers shared by every NMEA-framed codec; locale-independent
+/// (std::to_chars / std::from_chars), so a process locale with ',' decimals cannot break them.
+
+/// Formats a finite value with `decimals` digits after the point; "-0.00" becomes "0.00".
+std::string format_fixed(double value, int decimals);
+
+/// Parses a whole field as a finite decimal number; nullopt if empty, partial or not finite.
+std::optional<double> parse_number(std::string_view field);
 
 }  // namespace nav::protocols::nmea

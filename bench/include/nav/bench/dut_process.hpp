@@ -1,0 +1,48 @@
+// SPDX-License-Identifier: MIT
+// The DUT as a child process: started from an argv (no shell), stdout and stderr to a log
+// file, watched without blocking, stopped with SIGTERM then SIGKILL.
+#pragma once
+
+#include <sys/types.h>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "nav/common/result.hpp"
+
+namespace nav::bench {
+
+class DutProcess {
+ public:
+  /// Starts argv[0] (a path, or a name looked up next to navbench, then in PATH) with
+  /// stdout and stderr appended to log_path.
+  static Result<DutProcess> start(const std::vector<std::string>& argv,
+                                  const std::string& log_path);
+
+  DutProcess(DutProcess&& o) noexcept;
+  DutProcess& operator=(DutProcess&&) = delete;
+  DutProcess(const DutProcess&) = delete;
+  DutProcess& operator=(const DutProcess&) = delete;
+  ~DutProcess();
+
+  pid_t pid() const { return pid_; }
+  /// True while the child has not exited (reaps it when it has).
+  bool running();
+  /// How it ended, e.g. "exited with status 1" or "killed by signal 11 (Segmentation fault)";
+  /// empty while running.
+  const std::string& exit_description() const { return exit_; }
+  /// SIGTERM, then SIGKILL after grace; returns once the child is reaped.
+  void stop(double grace_s = 2.0);
+
+  /// Resolves a program name the way start() does; nullopt when not found.
+  static std::optional<std::string> resolve(const std::string& program);
+
+ private:
+  explicit DutProcess(pid_t pid) : pid_(pid) {}
+  void record_status(int status);
+  pid_t pid_ = -1;
+  std::string exit_;
+};
+
+}  // namespace nav::bench

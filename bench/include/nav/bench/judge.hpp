@@ -1,0 +1,59 @@
+// SPDX-License-Identifier: MIT
+// Judging a run: align the DUT's solutions to truth (interpolated at each trigger's time of
+// validity, never nearest-sample), compute latencies, run the scenario's checks.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "nav/bench/output_reader.hpp"
+#include "nav/bench/scenario.hpp"
+#include "nav/common/geodesy.hpp"
+#include "nav/emulators/truth.hpp"
+#include "nav/reports/run_record.hpp"
+
+namespace nav::bench {
+
+/// A trigger message and when it actually left.
+struct TriggerRecord {
+  std::uint64_t tag = 0;
+  Duration t_valid{};      ///< scenario time of validity
+  bool sent = false;
+  Timestamp wire_end{};    ///< CLOCK_MONOTONIC when its last byte was written
+};
+
+/// Truth sampled at a fixed rate, interpolated linearly (position, velocity, distance) and
+/// by slerp (attitude) in between.
+class TruthTable {
+ public:
+  TruthTable(const emulators::TruthTrajectory& truth, Duration duration, double rate_hz);
+  /// Truth at t within [0, duration].
+  emulators::TruthSample at(double t_s) const;
+  const std::vector<emulators::TruthSample>& samples() const { return samples_; }
+
+ private:
+  std::vector<emulators::TruthSample> samples_;
+  double dt_s_;
+};
+
+struct JudgeInput {
+  const Scenario* scenario = nullptr;
+  const TruthTable* truth = nullptr;
+  std::vector<TriggerRecord> triggers;  ///< in send order
+  std::vector<Answer> answers;          ///< in arrival order
+  Timestamp t0{};                       ///< CLOCK_MONOTONIC of scenario time 0
+  bool dut_alive = true;                ///< DUT ran to the end and did not hang
+  std::string dut_status;
+};
+
+struct JudgeOutput {
+  std::vector<reports::CheckResult> checks;
+  std::vector<reports::AlignedSample> aligned;
+  std::vector<reports::LatencyRow> latency;
+  reports::Stats dut_latency;
+  std::size_t unmatched_answers = 0;
+};
+
+JudgeOutput judge(const JudgeInput& in);
+
+}  // namespace nav::bench

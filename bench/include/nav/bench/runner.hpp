@@ -1,0 +1,41 @@
+// SPDX-License-Identifier: MIT
+// `navbench run`: one scenario end to end.
+//
+//   bench (sender thread)           pty lines            DUT (child)        bench (reader)
+//   ---------------------           ---------            -----------        --------------
+//   truth -> devices -> schedule
+//   t0 = now + startup ------------------------------- opens slave paths
+//   at T0 + chunk.t: write(master) --- bytes -------->  decode, estimate
+//                                                       write $PNVBSOL --> read, timestamp,
+//   realtime: next chunk at its time                                       decode, capture
+//   lockstep: after a trigger, wait for the solution naming it (watchdog)
+//   stop DUT (SIGTERM, SIGKILL) -> judge -> reports -> rename run folder into place
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include "nav/bench/scenario.hpp"
+
+namespace nav::bench {
+
+/// Exit codes of navbench (design.md).
+enum ExitCode : int {
+  kExitPass = 0,
+  kExitFail = 1,
+  kExitUsage = 2,
+  kExitBench = 3,
+  kExitDut = 4,
+};
+
+struct RunOptions {
+  std::string scenario_path;
+  std::optional<TimeMode> mode;  ///< overrides the scenario's mode
+  std::string out_dir;           ///< run folder; default runs/<name>-<UTC time>
+  bool quiet = false;            ///< no progress lines
+};
+
+/// Runs a scenario; prints the verdict; returns the exit code.
+int run_scenario(const RunOptions& options);
+
+}  // namespace nav::bench

@@ -1,0 +1,128 @@
+// SPDX-License-Identifier: MIT
+#include "nav/bench/dut_process.hpp"
+
+#include <fcntl.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <chrono>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <sstream>
+#include <thread>
+#include <utility>
+
+extern char** environ;
+
+namespace nav::bench {
+namespace {
+
+bool executable(const std::filesystem::path& p) {
+  struct stat st {};
+  return ::stat(p.c_str(), &st) == 0 && S_ISREG(st.st_mode) && ::access(p.c_str(), X_OK) == 0;
+}
+
+}  // namespace
+
+std::optional<std::string> DutProcess::resolve(const std::string& program) {
+  if (program.empty()) return std::nullopt;
+  if (program.find('/') != std::string::npos) {
+    return executable(program) ? std::optional(program) : std::nullopt;
+  }
+  std::error_code ec;
+  const auto self = std::filesystem::read_symlink("/proc/self/exe", ec);
+  if (!ec) {
+    const auto beside = self.parent_path() / program;
+    if (executable(beside)) return beside.string();
+  }
+  const char* path = std::getenv("PATH");
+  std::istringstream dirs(path ? path : "/usr/local/bin:/usr/bin:/bin");
+  for (std::string dir; std::getline(dirs, dir, ':');) {
+    const auto candidate = std::filesystem::path(dir.empty() ? "." : dir) / program;
+    if (executable(candidate)) return candidate.string();
+  }
+  return std::nullopt;
+}
+
+Result<DutProcess> DutProcess::start(const std::vector<std::string>& argv,
+                                     const std::string& log_path) {
+  if (argv.empty()) return fail(ErrorCode::kInvalidArgument, "empty DUT command");
+  const auto program = resolve(argv[0]);
+  if (!program) return fail(ErrorCode::kNotFound, "DUT program not found: " + argv[0]);
+
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
+  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log_path.c_str(),
+                                   O_WRONLY | O_CREAT | O_APPEND, 0644);
+  posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
+  posix_spawnattr_t attr;
+  posix_spawnattr_init(&attr);
+  // The child gets default signal handling and its own process group.
+  sigset_t none, all;
+  sigemptyset(&none);
+  sigfillset(&all);
+  posix_spawnattr_setsigmask(&attr, &none);
+  posix_spawnattr_setsigdefault(&attr, &all);
+  posix_spawnattr_setpgroup(&attr, 0);
+  posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETSIGMASK | POSIX_SPAWN_SETSIGDEF |
+                                      POSIX_SPAWN_SETPGROUP);
+
+  std::vector<char*> args;
+  for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+  args.push_back(nullptr);
+  pid_t pid = -1;
+  const int rc = ::posix_spawn(&pid, program->c_str(), &actions, &attr, args.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  posix_spawnattr_destroy(&attr);
+  if (rc != 0) return tl::unexpected(io_error("cannot start " + *program, rc));
+  return DutProcess(pid);
+}
+
+DutProcess::DutProcess(DutProcess&& o) noexcept
+    : pid_(std::exchange(o.pid_, -1)), exit_(std::move(o.exit_)) {}
+
+DutProcess::~DutProcess() {
+  if (pid_ > 0 && exit_.empty()) stop(0.5);
+}
+
+void DutProcess::record_status(int status) {
+  if (WIFEXITED(status)) {
+    exit_ = "exited with status " + std::to_string(WEXITSTATUS(status));
+  } else if (WIFSIGNALED(status)) {
+    exit_ = "killed by signal " + std::to_string(WTERMSIG(status)) + " (" +
+            ::strsignal(WTERMSIG(status)) + ")";
+  } else {
+    exit_ = "ended with wait status " + std::to_string(status);
+  }
+}
+
+bool DutProcess::running() {
+  if (!exit_.empty() || pid_ <= 0) return false;
+  int status = 0;
+  const pid_t r = ::waitpid(pid_, &status, WNOHANG);
+  if (r == 0) return true;
+  if (r == pid_) record_status(status);
+  else exit_ = "lost (waitpid failed)";
+  return false;
+}
+
+void DutProcess::stop(double grace_s) {
+  if (!running()) return;
+  ::kill(pid_, SIGTERM);
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(grace_s);
+  while (std::chrono::steady_clock::now() < deadline) {
+    if (!running()) return;
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  ::kill(pid_, SIGKILL);
+  int status = 0;
+  if (::waitpid(pid_, &status, 0) == pid_) record_status(status);
+}
+
+}  // namespace nav::bench

@@ -1,0 +1,211 @@
+// SPDX-License-Identifier: MIT
+#include "nav/bench/judge.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <unordered_map>
+
+#include "nav/common/units.hpp"
+
+namespace nav::bench {
+namespace {
+
+using CheckKind = CheckSpec::Kind;
+
+std::string fmt(const char* f, double a, double b, double c = 0.0) {
+  char buf[200];
+  std::snprintf(buf, sizeof buf, f, a, b, c);
+  return buf;
+}
+
+/// An error envelope check over aligned samples: value(sample) <= max + per_distance * d.
+reports::CheckResult envelope_check(const CheckSpec& c, const std::vector<reports::AlignedSample>& a,
+                                    double scale, const char* unit,
+                                    double (*value)(const reports::AlignedSample&)) {
+  reports::CheckResult r{c.name, true, false, 0.0, c.max * scale, unit, {}};
+  const double after_s = to_seconds(c.after);
+  std::size_t judged = 0, violations = 0;
+  double worst_margin = -1e300, worst_t = 0.0;
+  for (const auto& s : a) {
+    if (s.t_s < after_s) continue;
+    ++judged;
+    const double v = value(s);
+    const double limit = c.max + c.max_per_distance * s.distance_m;
+    if (v > limit) ++violations;
+    if (v - limit > worst_margin) {
+      worst_margin = v - limit;
+      worst_t = s.t_s;
+    }
+    r.value = std::max(r.value, v * scale);
+  }
+  if (judged == 0) {
+    r.detail = "no solutions with a valid position to judge";
+    return r;
+  }
+  r.passed = violations == 0;
+  r.detail = fmt("max %.3f ", r.value, 0.0) + unit + fmt(" (limit %.3f", c.max * scale, 0.0) +
+             (c.max_per_distance > 0 ? fmt(" + %.2f %% of distance", c.max_per_distance * 100, 0) : "") +
+             ")" + fmt(", %.0f of %.0f samples over", static_cast<double>(violations),
+                       static_cast<double>(judged)) +
+             fmt(", worst at t=%.2f s", worst_t, 0.0);
+  return r;
+}
+
+double horizontal(const reports::AlignedSample& s) {
+  return (s.est_p_n - s.truth_p_n).head<2>().norm();
+}
+double vertical(const reports::AlignedSample& s) { return std::abs(s.est_p_n.z() - s.truth_p_n.z()); }
+double attitude(const reports::AlignedSample& s) {
+  return attitude_error_angle(s.truth_q_nb, s.est_q_nb);
+}
+
+}  // namespace
+
+TruthTable::TruthTable(const emulators::TruthTrajectory& truth, Duration duration, double rate_hz)
+    : dt_s_(1.0 / rate_hz) {
+  const auto n = static_cast<std::size_t>(std::floor(to_seconds(duration) * rate_hz)) + 1;
+  samples_.reserve(n + 1);
+  for (std::size_t k = 0; k < n; ++k) {
+    samples_.push_back(truth.at(from_seconds(static_cast<double>(k) * dt_s_)));
+  }
+  if (samples_.back().t < duration) samples_.push_back(truth.at(duration));
+}
+
+emulators::TruthSample TruthTable::at(double t_s) const {
+  const double x = std::clamp(t_s / dt_s_, 0.0, static_cast<double>(samples_.size() - 1));
+  const auto k = std::min(static_cast<std::size_t>(x), samples_.size() - 2);
+  const auto& a = samples_[k];
+  const auto& b = samples_[k + 1];
+  const double ta = to_seconds(a.t), tb = to_seconds(b.t);
+  const double w = std::clamp((t_s - ta) / (tb - ta), 0.0, 1.0);
+  emulators::TruthSample s;
+  s.t = from_seconds(t_s);
+  s.p_n = (1.0 - w) * a.p_n + w * b.p_n;
+  s.v_n = (1.0 - w) * a.v_n + w * b.v_n;
+  s.a_n = (1.0 - w) * a.a_n + w * b.a_n;
+  s.q_nb = a.q_nb.slerp(w, b.q_nb);
+  s.omega_b = (1.0 - w) * a.omega_b + w * b.omega_b;
+  s.f_b = (1.0 - w) * a.f_b + w * b.f_b;
+  s.distance_m = (1.0 - w) * a.distance_m + w * b.distance_m;
+  return s;
+}
+
+JudgeOutput judge(const JudgeInput& in) {
+  const Scenario& sc = *in.scenario;
+  const bool lockstep = sc.mode == TimeMode::kLockstep;
+  const geodesy::LocalTangentPlane ltp(sc.datum);
+  JudgeOutput out;
+
+  std::unordered_map<std::uint64_t, std::size_t> by_tag;
+  for (std::size_t i = 0; i < in.triggers.size(); ++i) by_tag.emplace(in.triggers[i].tag, i);
+
+  // Latency rows: one per trigger sent, with the first answer naming it.
+  std::vector<std::optional<Timestamp>> first_rx(in.triggers.size());
+  for (const auto& a : in.answers) {
+    const auto it = by_tag.find(a.solution.trigger_tag);
+    if (it == by_tag.end() || !in.triggers[it->second].sent) {
+      ++out.unmatched_answers;
+      continue;
+    }
+    auto& rx = first_rx[it->second];
+    if (!rx) rx = a.rx;
+    if (!a.solution.position_valid) continue;
+    const TriggerRecord& tr = in.triggers[it->second];
+    const double t_s = to_seconds(tr.t_valid);
+    const auto truth = in.truth->at(t_s);
+    const auto& s = a.solution;
+    reports::AlignedSample al;
+    al.t_s = t_s;
+    al.truth_p_n = truth.p_n;
+    al.truth_q_nb = truth.q_nb;
+    al.distance_m = truth.distance_m;
+    al.est_p_n = ltp.to_ned(geodesy::Geodetic{units::deg_to_rad(s.lat_deg),
+                                              units::deg_to_rad(s.lon_deg), -s.depth_m});
+    al.est_q_nb = quat_from_euler(Euler{units::deg_to_rad(s.roll_deg),
+                                        units::deg_to_rad(s.pitch_deg),
+                                        units::deg_to_rad(s.yaw_deg)});
+    out.aligned.push_back(al);
+  }
+  std::sort(out.aligned.begin(), out.aligned.end(),
+            [](const auto& x, const auto& y) { return x.t_s < y.t_s; });
+
+  const CheckSpec* deadline = nullptr;
+  for (const auto& c : sc.checks) {
+    if (c.kind == CheckKind::kDeadline) deadline = &c;
+  }
+  std::vector<double> latencies;
+  std::size_t misses = 0, unanswered = 0;
+  for (std::size_t i = 0; i < in.triggers.size(); ++i) {
+    const auto& tr = in.triggers[i];
+    if (!tr.sent) continue;
+    reports::LatencyRow row;
+    row.tag = tr.tag;
+    row.t_valid_s = to_seconds(tr.t_valid);
+    row.wire_end_s = to_seconds(tr.wire_end - in.t0);
+    if (first_rx[i]) {
+      row.rx_s = to_seconds(*first_rx[i] - in.t0);
+      const double lat = to_seconds(*first_rx[i] - tr.wire_end);
+      latencies.push_back(lat);
+      row.missed = deadline && lat > deadline->max;
+    } else {
+      ++unanswered;
+      row.missed = true;
+    }
+    misses += row.missed ? 1 : 0;
+    out.latency.push_back(row);
+  }
+  out.dut_latency = reports::summarize(latencies);
+
+  for (const auto& c : sc.checks) {
+    switch (c.kind) {
+      case CheckKind::kHorizontalError:
+        out.checks.push_back(envelope_check(c, out.aligned, 1.0, "m", &horizontal));
+        break;
+      case CheckKind::kVerticalError:
+        out.checks.push_back(envelope_check(c, out.aligned, 1.0, "m", &vertical));
+        break;
+      case CheckKind::kAttitudeError:
+        out.checks.push_back(envelope_check(c, out.aligned, units::kRadToDeg, "deg", &attitude));
+        break;
+      case CheckKind::kEndpointError: {
+        reports::CheckResult r{c.name, true, false, 0.0, c.max, "m", {}};
+        if (out.aligned.empty()) {
+          r.detail = "no solutions with a valid position to judge";
+        } else {
+          const auto& last = out.aligned.back();
+          r.value = (last.est_p_n - last.truth_p_n).norm();
+          r.passed = r.value <= c.max;
+          r.detail = fmt("%.3f m at t=%.2f s", r.value, last.t_s) + fmt(" (limit %.3f m)", c.max, 0);
+        }
+        out.checks.push_back(r);
+        break;
+      }
+      case CheckKind::kDeadline: {
+        reports::CheckResult r{c.name, !lockstep, false, static_cast<double>(misses),
+                               static_cast<double>(c.max_misses), "misses", {}};
+        if (lockstep) {
+          r.detail = "not judged in lockstep (latency is compute time)";
+          r.value = 0;
+        } else {
+          r.passed = misses <= static_cast<std::size_t>(c.max_misses);
+          r.detail = fmt("%.0f misses over %.3f ms", static_cast<double>(misses), c.max * 1e3) +
+                     fmt(" (%.0f unanswered; allowed %.0f)", static_cast<double>(unanswered),
+                         c.max_misses) +
+                     ", input " + c.input;
+        }
+        out.checks.push_back(r);
+        break;
+      }
+      case CheckKind::kDutAlive: {
+        reports::CheckResult r{c.name, true, in.dut_alive, in.dut_alive ? 1.0 : 0.0, 1.0, "", {}};
+        r.detail = in.dut_status;
+        out.checks.push_back(r);
+        break;
+      }
+    }
+  }
+  return out;
+}
+
+}  // namespace nav::bench

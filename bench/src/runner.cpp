@@ -1,0 +1,466 @@
+// SPDX-License-Identifier: MIT
+#include "nav/bench/runner.hpp"
+
+#include <pthread.h>
+#include <sched.h>
+#include <signal.h>
+#include <sys/prctl.h>
+#include <poll.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cerrno>
+#include <chrono>
+#include <cstdio>
+#include <ctime>
+#include <filesystem>
+#include <memory>
+#include <thread>
+#include <unordered_map>
+
+#include "nav/bench/dut_process.hpp"
+#include "nav/bench/judge.hpp"
+#include "nav/bench/output_reader.hpp"
+#include "nav/bench/pty.hpp"
+#include "nav/bench/wire_schedule.hpp"
+#include "nav/reports/run_record.hpp"
+
+namespace nav::bench {
+namespace {
+
+namespace fs = std::filesystem;
+using namespace std::chrono_literals;
+
+std::atomic<bool> g_interrupted{false};
+extern "C" void on_signal(int) { g_interrupted = true; }
+
+constexpr Duration kChunkPeriod = 1ms;       // byte pacing granularity
+constexpr Duration kCheckPeriod = 50ms;      // how often the DUT is watched while sending
+constexpr Duration kProgressPeriod = 10s;    // progress lines on long runs
+
+std::string utc_now(const char* format) {
+  const std::time_t now = std::time(nullptr);
+  std::tm tm{};
+  ::gmtime_r(&now, &tm);
+  char buf[64];
+  std::strftime(buf, sizeof buf, format, &tm);
+  return buf;
+}
+
+void sleep_until(Timestamp t) {
+  const timespec ts = to_timespec(t);
+  while (::clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
+    if (g_interrupted) return;
+  }
+}
+
+/// Best effort: real-time priority and a 1 ns timer slack for the calling thread.
+void try_realtime_priority(int priority) {
+  ::prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL);
+  sched_param p{};
+  p.sched_priority = priority;
+  (void)::pthread_setschedparam(::pthread_self(), SCHED_FIFO, &p);
+}
+
+std::string device_type_name(DeviceSpec::Type t) {
+  return t == DeviceSpec::Type::kMicrostrainGx3 ? "microstrain-gx3-25" : "nmea0183-gps";
+}
+
+void write_capture(std::FILE* f, Duration since_t0, const std::string& port,
+                   const protocols::Bytes& bytes) {
+  const std::int64_t ns = since_t0.count();
+  const std::int64_t a = ns < 0 ? -ns : ns;
+  std::fprintf(f, "(%s%lld.%09lld) %s ", ns < 0 ? "-" : "",
+               static_cast<long long>(a / 1'000'000'000), static_cast<long long>(a % 1'000'000'000),
+               port.c_str());
+  for (auto b : bytes) std::fprintf(f, "%02X", b);
+  std::fputc('\n', f);
+}
+
+struct FileCloser {
+  void operator()(std::FILE* f) const {
+    if (f) std::fclose(f);
+  }
+};
+using FilePtr = std::unique_ptr<std::FILE, FileCloser>;
+
+FilePtr open_file(const fs::path& p) {
+  FilePtr f(std::fopen(p.c_str(), "w"));
+  if (!f) throw std::runtime_error("cannot write " + p.string());
+  return f;
+}
+
+/// Everything one run holds while it executes.
+class Run {
+ public:
+  Run(Scenario sc, emulators::TruthTrajectory truth, fs::path dir, bool quiet)
+      : sc_(std::move(sc)), truth_(std::move(truth)), dir_(std::move(dir)), quiet_(quiet) {}
+
+  reports::RunRecord execute();
+
+ private:
+  void generate();
+  void open_ports();
+  std::vector<std::string> dut_argv() const;
+  void run_realtime();
+  void run_lockstep();
+  void drain();
+  /// Watches the DUT; false (with status set) once it crashed or hung.
+  bool dut_ok(Timestamp now);
+  void progress(Duration scenario_t);
+  bool is_trigger(const ScheduledMessage& m) const { return m.device == trigger_device_; }
+  const emulators::WireMessage& message(const ScheduledMessage& m) const {
+    return streams_[m.device][m.index];
+  }
+
+  Scenario sc_;
+  emulators::TruthTrajectory truth_;
+  fs::path dir_;
+  bool quiet_;
+
+  std::vector<std::vector<emulators::WireMessage>> streams_;
+  WireSchedule schedule_;
+  std::uint32_t trigger_device_ = 0;
+  std::vector<Pty> ptys_;  // one per device, then the output
+  std::unique_ptr<DutProcess> dut_;
+  std::unique_ptr<OutputReader> reader_;
+  FilePtr tx_capture_, rx_capture_;
+  Timestamp t0_{};
+
+  std::vector<TriggerRecord> triggers_;
+  std::unordered_map<std::uint32_t, std::size_t> trigger_of_message_;
+  std::vector<std::size_t> bytes_sent_, bytes_dropped_, messages_sent_;
+  std::vector<reports::LatenessRow> lateness_;
+  std::size_t triggers_sent_ = 0;
+  bool crashed_ = false, hung_ = false;
+  std::string dut_status_;
+  Duration next_progress_ = kProgressPeriod;
+};
+
+void Run::generate() {
+  for (std::uint32_t d = 0; d < sc_.devices.size(); ++d) {
+    const auto& dev = sc_.devices[d];
+    const auto seed = emulators::device_seed(sc_.seed, dev.name);
+    streams_.push_back(dev.type == DeviceSpec::Type::kMicrostrainGx3
+                           ? emulators::generate_gx3(dev.gx3, truth_, sc_.duration, seed)
+                           : emulators::generate_gps(dev.gps, truth_, sc_.duration, seed));
+    if (dev.name == sc_.dut.trigger) trigger_device_ = d;
+  }
+  std::vector<StreamInput> inputs;
+  for (std::uint32_t d = 0; d < sc_.devices.size(); ++d) {
+    inputs.push_back(StreamInput{&streams_[d], sc_.devices[d].baud});
+  }
+  schedule_ = build_schedule(inputs, kChunkPeriod);
+  for (std::uint32_t k = 0; k < schedule_.messages.size(); ++k) {
+    const auto& m = schedule_.messages[k];
+    if (!is_trigger(m)) continue;
+    trigger_of_message_[k] = triggers_.size();
+    triggers_.push_back(TriggerRecord{message(m).trigger_tag.value_or(0), message(m).t_valid});
+  }
+  bytes_sent_.assign(sc_.devices.size(), 0);
+  bytes_dropped_.assign(sc_.devices.size(), 0);
+  messages_sent_.assign(sc_.devices.size(), 0);
+}
+
+void Run::open_ports() {
+  for (std::size_t i = 0; i <= sc_.devices.size(); ++i) {
+    auto p = Pty::open();
+    if (!p) throw std::runtime_error(p.error().detail);
+    ptys_.push_back(std::move(*p));
+  }
+}
+
+std::vector<std::string> Run::dut_argv() const {
+  std::vector<std::string> argv;
+  for (std::string a : sc_.dut.command) {
+    for (std::size_t d = 0; d <= sc_.devices.size(); ++d) {
+      const std::string key =
+          "{port:" + (d < sc_.devices.size() ? sc_.devices[d].name : std::string("output")) + "}";
+      for (auto pos = a.find(key); pos != std::string::npos; pos = a.find(key)) {
+        a.replace(pos, key.size(), ptys_[d].slave_path());
+      }
+    }
+    argv.push_back(a);
+  }
+  return argv;
+}
+
+bool Run::dut_ok(Timestamp now) {
+  if (crashed_ || hung_) return false;
+  if (!dut_->running()) {
+    crashed_ = true;
+    char t[64];
+    std::snprintf(t, sizeof t, " at t=%.3f s", to_seconds(now - t0_));
+    dut_status_ = "crashed: " + dut_->exit_description() + t;
+    return false;
+  }
+  const std::size_t answered = reader_->answer_count();
+  if (answered < triggers_sent_) {
+    // The oldest trigger still waiting (answers arrive in trigger order).
+    const Timestamp waiting_since =
+        std::max(reader_->last_answer_time(), triggers_[std::min(answered, triggers_.size() - 1)].wire_end);
+    if (now - waiting_since > sc_.dut.watchdog) {
+      hung_ = true;
+      char t[128];
+      std::snprintf(t, sizeof t, "hung: no solution for %.1f s at t=%.3f s",
+                    to_seconds(now - waiting_since), to_seconds(now - t0_));
+      dut_status_ = t;
+      return false;
+    }
+  }
+  return true;
+}
+
+void Run::progress(Duration scenario_t) {
+  if (quiet_ || sc_.duration < 30s || scenario_t < next_progress_) return;
+  next_progress_ += kProgressPeriod;
+  std::fprintf(stderr, "[navbench] t=%.0f/%.0f s, %zu solutions for %zu triggers\n",
+               to_seconds(scenario_t), to_seconds(sc_.duration), reader_->answer_count(),
+               triggers_sent_);
+}
+
+void Run::run_realtime() {
+  std::vector<Timestamp> first_byte(schedule_.messages.size());
+  Timestamp next_check = t0_;
+  for (const Chunk& c : schedule_.chunks) {
+    if (g_interrupted) return;
+    const Timestamp deadline = t0_ + c.t;
+    if (deadline >= next_check) {
+      if (!dut_ok(monotonic_now())) return;
+      next_check = deadline + kCheckPeriod;
+      progress(c.t);
+    }
+    sleep_until(deadline);
+    const ScheduledMessage& m = schedule_.messages[c.message];
+    const auto& bytes = message(m).bytes;
+    const Timestamp start = monotonic_now();
+    const ssize_t n = ::write(ptys_[m.device].master(), bytes.data() + c.offset, c.length);
+    const Timestamp done = monotonic_now();
+    // A serial line never blocks: bytes the DUT does not take are lost, like a UART overrun.
+    const std::size_t written = n > 0 ? static_cast<std::size_t>(n) : 0;
+    bytes_sent_[m.device] += written;
+    bytes_dropped_[m.device] += c.length - written;
+    if (c.offset == 0) {
+      first_byte[c.message] = start;
+      lateness_.push_back(reports::LatenessRow{sc_.devices[m.device].name, to_seconds(c.t),
+                                               to_seconds(start - t0_)});
+    }
+    if (c.offset + c.length == bytes.size()) {
+      ++messages_sent_[m.device];
+      write_capture(tx_capture_.get(), first_byte[c.message] - t0_, sc_.devices[m.device].name,
+                    bytes);
+      if (is_trigger(m)) {
+        auto& tr = triggers_[trigger_of_message_.at(c.message)];
+        tr.sent = true;
+        tr.wire_end = done;
+        ++triggers_sent_;
+      }
+    }
+  }
+}
+
+void Run::run_lockstep() {
+  for (std::uint32_t k = 0; k < schedule_.messages.size(); ++k) {
+    if (g_interrupted) return;
+    const ScheduledMessage& m = schedule_.messages[k];
+    const auto& bytes = message(m).bytes;
+    const int fd = ptys_[m.device].master();
+    std::size_t off = 0;
+    const Timestamp give_up = monotonic_now() + sc_.dut.watchdog;
+    while (off < bytes.size()) {
+      const ssize_t n = ::write(fd, bytes.data() + off, bytes.size() - off);
+      if (n > 0) {
+        off += static_cast<std::size_t>(n);
+        continue;
+      }
+      // The DUT has not read its input yet: wait for room, as long as the watchdog allows.
+      if (!dut_ok(monotonic_now()) || monotonic_now() > give_up) break;
+      pollfd p{fd, POLLOUT, 0};
+      ::poll(&p, 1, 10);
+    }
+    bytes_sent_[m.device] += off;
+    bytes_dropped_[m.device] += bytes.size() - off;
+    ++messages_sent_[m.device];
+    write_capture(tx_capture_.get(), m.start, sc_.devices[m.device].name, bytes);
+    progress(m.start);
+    if (!is_trigger(m)) {
+      ptys_[m.device].flush_to_slave();  // visible to the DUT before the next trigger
+      continue;
+    }
+    auto& tr = triggers_[trigger_of_message_.at(k)];
+    tr.sent = true;
+    tr.wire_end = monotonic_now();
+    ++triggers_sent_;
+    // Barrier: the next trigger leaves only once this one is answered.
+    const Timestamp deadline = tr.wire_end + sc_.dut.watchdog;
+    while (!reader_->wait_for(tr.tag, std::min(deadline, monotonic_now() + kCheckPeriod))) {
+      if (g_interrupted || !dut_ok(monotonic_now())) return;
+    }
+  }
+}
+
+void Run::drain() {
+  // After the last message: wait for outstanding answers, at most one watchdog period.
+  const Timestamp end = monotonic_now() + sc_.dut.watchdog;
+  while (reader_->answer_count() < triggers_sent_ && monotonic_now() < end && !g_interrupted) {
+    if (!dut_ok(monotonic_now())) return;
+    std::this_thread::sleep_for(5ms);
+  }
+  dut_ok(monotonic_now());
+}
+
+reports::RunRecord Run::execute() {
+  reports::RunRecord rec;
+  rec.started_utc = utc_now("%Y-%m-%dT%H:%M:%SZ");
+  const Timestamp wall_start = monotonic_now();
+  generate();
+  open_ports();
+  tx_capture_ = open_file(dir_ / "capture-tx.log");
+  rx_capture_ = open_file(dir_ / "capture-rx.log");
+  fs::copy_file(sc_.file, dir_ / "scenario.yaml");
+
+  const auto argv = dut_argv();
+  t0_ = monotonic_now() + sc_.dut.startup;
+  auto dut = DutProcess::start(argv, (dir_ / "dut.log").string());
+  if (!dut) throw std::runtime_error(dut.error().detail);
+  dut_ = std::make_unique<DutProcess>(std::move(*dut));
+  reader_ = std::make_unique<OutputReader>(ptys_.back().master(), rx_capture_.get(), t0_);
+  reader_->start();
+  try_realtime_priority(20);
+  while (monotonic_now() < t0_ && !g_interrupted && dut_ok(monotonic_now())) {
+    std::this_thread::sleep_for(5ms);
+  }
+  if (dut_ok(monotonic_now()) && !g_interrupted) {
+    if (sc_.mode == TimeMode::kRealtime) run_realtime();
+    else run_lockstep();
+    if (dut_ok(monotonic_now()) && !g_interrupted) drain();
+  }
+  const bool alive = !crashed_ && !hung_ && dut_->running();
+  if (alive) dut_status_ = "alive until the end (pid " + std::to_string(dut_->pid()) + ")";
+  dut_->stop();
+  reader_->stop();
+  std::fflush(tx_capture_.get());
+
+  const TruthTable table(truth_, sc_.duration, sc_.truth_rate_hz);
+  JudgeInput in{&sc_, &table, triggers_, reader_->answers(), t0_, alive, dut_status_};
+  JudgeOutput j = judge(in);
+
+  rec.scenario_name = sc_.name;
+  rec.scenario_file = sc_.file;
+  rec.mode = sc_.mode == TimeMode::kRealtime ? "realtime" : "lockstep";
+  rec.seed = sc_.seed;
+  rec.duration_s = to_seconds(sc_.duration);
+  rec.dut_command = argv;
+  rec.dut_status = dut_status_;
+  rec.triggers_sent = triggers_sent_;
+  rec.answers = in.answers.size();
+  rec.unmatched_answers = j.unmatched_answers;
+  rec.malformed_output = reader_->malformed();
+  rec.checks = std::move(j.checks);
+  rec.aligned = std::move(j.aligned);
+  rec.latency = std::move(j.latency);
+  rec.dut_latency = j.dut_latency;
+  std::vector<double> late;
+  for (const auto& l : lateness_) late.push_back(l.actual_s - l.scheduled_s);
+  rec.bench_lateness = reports::summarize(late);
+  rec.lateness = std::move(lateness_);
+  rec.lateness_budget_p99_s = to_seconds(sc_.lateness_budget_p99);
+  for (const auto& s : table.samples()) rec.truth.push_back({to_seconds(s.t), s.p_n, s.q_nb});
+  for (std::size_t d = 0; d < sc_.devices.size(); ++d) {
+    const auto& dev = sc_.devices[d];
+    rec.devices.push_back({dev.name, device_type_name(dev.type), ptys_[d].slave_path(), dev.baud,
+                           messages_sent_[d], bytes_sent_[d], bytes_dropped_[d]});
+  }
+  const bool any_failed = std::any_of(rec.checks.begin(), rec.checks.end(),
+                                      [](const auto& c) { return c.judged && !c.passed; });
+  if (g_interrupted) {
+    rec.verdict = "INTERRUPTED";
+    rec.exit_code = kExitBench;
+  } else if (crashed_) {
+    rec.verdict = "DUT crashed";
+    rec.exit_code = kExitDut;
+  } else if (hung_) {
+    rec.verdict = "DUT hung";
+    rec.exit_code = kExitDut;
+  } else if (rec.bench_lateness.count > 0 && rec.bench_lateness.p99_s > rec.lateness_budget_p99_s) {
+    rec.verdict = "BENCH-LATE";
+    rec.exit_code = kExitBench;
+  } else if (any_failed) {
+    rec.verdict = "FAIL";
+    rec.exit_code = kExitFail;
+  } else {
+    rec.verdict = "PASS";
+    rec.exit_code = kExitPass;
+  }
+  rec.wall_time_s = to_seconds(monotonic_now() - wall_start);
+  return rec;
+}
+
+}  // namespace
+
+int run_scenario(const RunOptions& o) {
+  auto sc = load_scenario(o.scenario_path);
+  if (!sc) {
+    std::fprintf(stderr, "navbench: %s\n", sc.error().detail.c_str());
+    return kExitUsage;
+  }
+  if (o.mode) sc->mode = *o.mode;
+  auto truth = emulators::TruthTrajectory::build(sc->trajectory);
+  if (!truth) {
+    // Errors about a segment ("segment 3 (arc): ...") point at that segment in the file.
+    const std::string& detail = truth.error().detail;
+    std::string where = sc->file + ": vehicle.path";
+    unsigned index = 0;
+    if (std::sscanf(detail.c_str(), "segment %u", &index) == 1 &&
+        index < sc->segment_locations.size()) {
+      where = sc->segment_locations[index];
+    }
+    std::fprintf(stderr, "navbench: %s: %s\n", where.c_str(), detail.c_str());
+    return kExitUsage;
+  }
+  if (!DutProcess::resolve(sc->dut.command.front())) {
+    std::fprintf(stderr, "navbench: %s: dut.command: program '%s' not found (looked beside "
+                 "navbench and in PATH)\n", sc->file.c_str(), sc->dut.command.front().c_str());
+    return kExitUsage;
+  }
+  const fs::path final_dir =
+      o.out_dir.empty() ? fs::path("runs") / (sc->name + "-" + utc_now("%Y%m%dT%H%M%SZ"))
+                        : fs::path(o.out_dir);
+  if (fs::exists(final_dir)) {
+    std::fprintf(stderr, "navbench: run folder %s exists already; choose another --out\n",
+                 final_dir.c_str());
+    return kExitUsage;
+  }
+  // Everything is written under <dir>.partial and renamed into place when complete.
+  const fs::path partial = final_dir.string() + ".partial";
+  std::error_code ec;
+  fs::remove_all(partial, ec);
+  fs::create_directories(partial, ec);
+  if (ec) {
+    std::fprintf(stderr, "navbench: cannot create %s: %s\n", partial.c_str(), ec.message().c_str());
+    return kExitBench;
+  }
+
+  struct sigaction sa {};
+  sa.sa_handler = on_signal;
+  ::sigaction(SIGINT, &sa, nullptr);
+  ::sigaction(SIGTERM, &sa, nullptr);
+  ::signal(SIGPIPE, SIG_IGN);
+
+  try {
+    Run run(std::move(*sc), std::move(*truth), partial, o.quiet);
+    reports::RunRecord rec = run.execute();
+    rec.run_dir = final_dir.string();
+    reports::write_reports(rec, partial.string());
+    fs::rename(partial, final_dir);
+    std::fputs(reports::verdict_text(rec).c_str(), stdout);
+    std::fflush(stdout);
+    return rec.exit_code;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "navbench: bench error: %s (partial output kept in %s)\n", e.what(),
+                 partial.c_str());
+    return kExitBench;
+  }
+}
+
+}  // namespace nav::bench

@@ -1,0 +1,93 @@
+// SPDX-License-Identifier: MIT
+#include "nav/estimator/filter_params.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+#include <string>
+
+namespace nav::estimator {
+namespace {
+
+std::string format_value(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
+constexpr ParamField kFields[] = {
+    {"attitude_kp_per_s", &FilterParams::attitude_kp_per_s,
+     "proportional gain of the attitude complementary filter [1/s]"},
+    {"attitude_ki_per_s2", &FilterParams::attitude_ki_per_s2,
+     "integral (gyro bias) gain of the attitude filter [1/s^2]"},
+    {"accel_weight", &FilterParams::accel_weight, "weight of the gravity-direction error [-]"},
+    {"mag_weight", &FilterParams::mag_weight, "weight of the magnetic heading error [-]"},
+    {"accel_gate_mps2", &FilterParams::accel_gate_mps2,
+     "accel corrects attitude only while ||f|-g0| is below this [m/s^2]"},
+    {"gyro_bias_limit_radps", &FilterParams::gyro_bias_limit_radps,
+     "clamp of each gyro bias axis [rad/s]"},
+    {"magnetic_declination_rad", &FilterParams::magnetic_declination_rad,
+     "magnetic declination, east positive [rad]"},
+    {"max_dt_s", &FilterParams::max_dt_s, "longest AHRS sample interval still propagated [s]"},
+    {"accel_noise_density_mps2_rthz", &FilterParams::accel_noise_density_mps2_rthz,
+     "acceleration error density driving the KF [m/s^2/sqrt(Hz)]"},
+    {"gps_horizontal_std_m", &FilterParams::gps_horizontal_std_m,
+     "GPS position std per horizontal axis [m]"},
+    {"gps_vertical_std_m", &FilterParams::gps_vertical_std_m, "GPS altitude std [m]"},
+    {"gps_velocity_std_mps", &FilterParams::gps_velocity_std_mps,
+     "GPS velocity std per horizontal axis [m/s]"},
+    {"initial_velocity_std_mps", &FilterParams::initial_velocity_std_mps,
+     "velocity std when the KF starts [m/s]"},
+    {"gps_position_gate_nis", &FilterParams::gps_position_gate_nis,
+     "NIS gate of GPS position updates, 0 = off [-]"},
+    {"gps_velocity_gate_nis", &FilterParams::gps_velocity_gate_nis,
+     "NIS gate of GPS velocity updates, 0 = off [-]"},
+};
+
+}  // namespace
+
+std::span<const ParamField> param_fields() { return kFields; }
+
+Result<void> validate(const FilterParams& p) {
+  for (const ParamField& f : kFields) {
+    const double v = p.*(f.member);
+    if (!std::isfinite(v)) {
+      return fail(ErrorCode::kInvalidArgument, std::string(f.name) + " must be finite");
+    }
+  }
+  struct Rule {
+    const char* name;
+    double value;
+    bool strictly_positive;
+  };
+  const Rule rules[] = {
+      {"attitude_kp_per_s", p.attitude_kp_per_s, false},
+      {"attitude_ki_per_s2", p.attitude_ki_per_s2, false},
+      {"accel_weight", p.accel_weight, false},
+      {"mag_weight", p.mag_weight, false},
+      {"accel_gate_mps2", p.accel_gate_mps2, false},
+      {"gyro_bias_limit_radps", p.gyro_bias_limit_radps, false},
+      {"max_dt_s", p.max_dt_s, true},
+      {"accel_noise_density_mps2_rthz", p.accel_noise_density_mps2_rthz, false},
+      {"gps_horizontal_std_m", p.gps_horizontal_std_m, true},
+      {"gps_vertical_std_m", p.gps_vertical_std_m, true},
+      {"gps_velocity_std_mps", p.gps_velocity_std_mps, true},
+      {"initial_velocity_std_mps", p.initial_velocity_std_mps, true},
+      {"gps_position_gate_nis", p.gps_position_gate_nis, false},
+      {"gps_velocity_gate_nis", p.gps_velocity_gate_nis, false},
+  };
+  for (const Rule& r : rules) {
+    const bool ok = r.strictly_positive ? r.value > 0.0 : r.value >= 0.0;
+    if (!ok) {
+      return fail(ErrorCode::kInvalidArgument,
+                  std::string(r.name) + " must be " + (r.strictly_positive ? "> 0" : ">= 0") +
+                      " (got " + format_value(r.value) + ")");
+    }
+  }
+  if (std::abs(p.magnetic_declination_rad) > std::numbers::pi) {
+    return fail(ErrorCode::kInvalidArgument, "magnetic_declination_rad must be in [-pi, pi]");
+  }
+  return {};
+}
+
+}  // namespace nav::estimator

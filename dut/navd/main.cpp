@@ -1,0 +1,159 @@
+// SPDX-License-Identifier: MIT
+// navd: the reference DUT of navbench. Reads a MicroStrain 3DM-GX3-25 (0xCB packets) and an
+// NMEA 0183 GPS (GGA/RMC) from serial ports, estimates, and writes one $PNVBSOL solution per
+// AHRS packet to an output serial port (docs/dut-contract.md).
+//
+// Exit codes: 0 SIGTERM/SIGINT, output hang-up, or every input at EOF/hang-up;
+//             2 bad usage or config; 3 a port cannot be opened.
+#include <sys/signalfd.h>
+#include <unistd.h>
+
+#include <csignal>
+#include <cstdio>
+#include <exception>
+#include <optional>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "config.hpp"
+#include "navd_app.hpp"
+
+namespace {
+
+constexpr int kExitOk = 0;
+constexpr int kExitUsage = 2;
+constexpr int kExitPort = 3;
+
+constexpr const char* kDescription =
+    "navd - reference DUT of navbench. Reads a MicroStrain 3DM-GX3-25 AHRS (0xCB packets) and "
+    "an optional NMEA 0183 GPS (GGA, RMC) from serial ports (ttys or pty slaves, raw 8N1), "
+    "estimates attitude (complementary filter) and position/velocity (Kalman filter anchored "
+    "at the first GPS fix), and writes one $PNVBSOL solution per AHRS packet.";
+
+std::string footer() {
+  return "Output format: for every AHRS 0xCB packet navd writes exactly one line "
+         "$PNVBSOL,AHRS,<tag>,<seq>,<lat_deg>,<lon_deg>,<depth_m>,<vn>,<ve>,<vd>,<roll_deg>,"
+         "<pitch_deg>,<yaw_deg>,<status>*hh<CR><LF>: tag is the packet's timer field in "
+         "decimal (ticks of 1/62500 s) and names the trigger; seq counts solutions from 0; "
+         "latitude/longitude in degrees (+N, +E); depth in metres below mean sea level (+down); "
+         "velocity north/east/down in m/s; roll/pitch/yaw (ZYX) in degrees; status ALIGNING "
+         "before the first GPS fix (the six position and velocity fields are then empty), OK "
+         "after it, DEGRADED if the estimate is not finite; hh is the XOR of the characters "
+         "between '$' and '*' in two upper-case hex digits. Writes never block: up to 64 KiB "
+         "of solutions wait for a slow reader, then the oldest unsent ones are dropped.\n\n"
+         "Exit codes: 0 on SIGTERM/SIGINT, output hang-up, or when every input reached "
+         "EOF/hang-up; 2 bad usage or config; 3 a port cannot be opened. A one-line summary "
+         "goes to stderr on exit.\n\n"
+         "Config keys (--config, a YAML map key: value, SI units):\n" +
+         nav::dut::config_keys_help();
+}
+
+/// Blocks SIGTERM/SIGINT and returns a signalfd that reports them (-1 on failure).
+int make_signal_fd() {
+  sigset_t mask;
+  sigemptyset(&mask);
+  sigaddset(&mask, SIGTERM);
+  sigaddset(&mask, SIGINT);
+  if (sigprocmask(SIG_BLOCK, &mask, nullptr) != 0) return -1;
+  return signalfd(-1, &mask, SFD_NONBLOCK | SFD_CLOEXEC);
+}
+
+int run(int argc, char** argv) {
+  nav::dut::NavdOptions opt;
+  CLI::App app(kDescription, "navd");
+  app.footer(footer());
+  const auto bauds = nav::transport::SerialPort::supported_bauds();
+  app.add_option("--ahrs", opt.ahrs_path,
+                 "tty of the 3DM-GX3-25 AHRS streaming 0xCB packets; every packet is a "
+                 "trigger answered by one solution")
+      ->required();
+  app.add_option("--ahrs-baud", opt.ahrs_baud, "AHRS line rate [bit/s]")
+      ->capture_default_str()
+      ->check(CLI::IsMember(bauds));
+  app.add_option("--gps", opt.gps_path,
+                 "tty of the NMEA 0183 GPS (GGA: position, RMC: velocity); without it the "
+                 "solution stays ALIGNING with empty position fields");
+  app.add_option("--gps-baud", opt.gps_baud, "GPS line rate [bit/s]")
+      ->capture_default_str()
+      ->check(CLI::IsMember(bauds));
+  app.add_option("--output", opt.output_path, "tty the $PNVBSOL solutions are written to")
+      ->required();
+  app.add_option("--output-baud", opt.output_baud, "output line rate [bit/s]")
+      ->capture_default_str()
+      ->check(CLI::IsMember(bauds));
+  app.add_option("--config", opt.config_path,
+                 "YAML file setting filter parameters by name (keys below); unknown keys are "
+                 "an error")
+      ->check(CLI::ExistingFile);
+  app.add_option("--delay-ms", opt.delay_ms,
+                 "test aid: sleep this long before writing each solution, simulating a slow "
+                 "estimator [ms]")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 600000));
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::fprintf(stderr, "navd: %s (see navd --help)\n", e.what());
+    return kExitUsage;
+  }
+
+  nav::estimator::FilterParams params;
+  if (!opt.config_path.empty()) {
+    auto loaded = nav::dut::load_config(opt.config_path);
+    if (!loaded) {
+      std::fprintf(stderr, "navd: %s\n", loaded.error().detail.c_str());
+      return kExitUsage;
+    }
+    params = *loaded;
+  }
+
+  std::signal(SIGPIPE, SIG_IGN);
+  const int signal_fd = make_signal_fd();
+  if (signal_fd < 0) {
+    std::perror("navd: cannot set up signal handling");
+    return kExitUsage;
+  }
+
+  auto open_port = [](const std::string& path, int baud) {
+    auto port = nav::transport::SerialPort::open(path, baud);
+    if (!port) std::fprintf(stderr, "navd: %s\n", port.error().detail.c_str());
+    return port;
+  };
+  auto ahrs = open_port(opt.ahrs_path, opt.ahrs_baud);
+  if (!ahrs) return kExitPort;
+  std::optional<nav::transport::SerialPort> gps;
+  if (!opt.gps_path.empty()) {
+    auto g = open_port(opt.gps_path, opt.gps_baud);
+    if (!g) return kExitPort;
+    gps.emplace(std::move(*g));
+  }
+  auto output = open_port(opt.output_path, opt.output_baud);
+  if (!output) return kExitPort;
+
+  std::fprintf(stderr, "navd: running: ahrs=%s@%d gps=%s output=%s@%d config=%s delay=%d ms\n",
+               opt.ahrs_path.c_str(), opt.ahrs_baud,
+               gps ? (opt.gps_path + "@" + std::to_string(opt.gps_baud)).c_str() : "none",
+               opt.output_path.c_str(), opt.output_baud,
+               opt.config_path.empty() ? "defaults" : opt.config_path.c_str(), opt.delay_ms);
+
+  nav::dut::NavdApp navd(opt, params, std::move(*ahrs), std::move(gps), std::move(*output),
+                         signal_fd);
+  const std::string reason = navd.run();
+  std::fprintf(stderr, "%s\n", navd.stats_line(reason).c_str());
+  ::close(signal_fd);
+  return kExitOk;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    return run(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "navd: %s\n", e.what());
+    return 1;
+  }
+}

@@ -1,0 +1,262 @@
+// SPDX-License-Identifier: MIT
+#include "navd_app.hpp"
+
+#include <poll.h>
+#include <sys/signalfd.h>
+#include <unistd.h>
+
+#include <array>
+#include <cerrno>
+#include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <cstring>
+
+#include "nav/common/frames.hpp"
+#include "nav/common/units.hpp"
+#include "nav/protocols/navd_solution.hpp"
+
+namespace nav::dut {
+namespace {
+
+static_assert(estimator::kAhrsTicksPerSecond == protocols::gx3::kTicksPerSecond,
+              "navigator and codec must agree on the GX3 timer rate");
+
+Vec3 to_vec(const std::array<float, 3>& a) {
+  return {static_cast<double>(a[0]), static_cast<double>(a[1]), static_cast<double>(a[2])};
+}
+
+/// SI sample from a 0xCB packet (unit conversion at the codec boundary).
+estimator::AhrsSample to_sample(const protocols::gx3::AccelRateMag& m) {
+  estimator::AhrsSample s;
+  s.timer_ticks = m.timer_ticks;
+  s.omega_b_radps = to_vec(m.rate_radps);
+  s.f_b_mps2 = to_vec(m.accel_g) * units::kStandardGravity;
+  s.m_b_tesla = to_vec(m.mag_gauss) * units::kGaussToTesla;
+  return s;
+}
+
+/// The $PNVBSOL of the navigator's estimate. A non-finite or out-of-range estimate is
+/// reported as DEGRADED with empty position fields rather than as numbers.
+protocols::navd::Solution to_solution(const estimator::NavSolution& nav, std::uint32_t tag,
+                                      std::uint64_t seq) {
+  protocols::navd::Solution s;
+  s.input = "AHRS";
+  s.trigger_tag = tag;
+  s.seq = seq;
+  s.status = nav.position_valid ? "OK" : "ALIGNING";
+  const Euler e = euler_from_quat(nav.q_nb);
+  if (std::isfinite(e.roll) && std::isfinite(e.pitch) && std::isfinite(e.yaw)) {
+    s.roll_deg = units::rad_to_deg(e.roll);
+    s.pitch_deg = units::rad_to_deg(e.pitch);
+    s.yaw_deg = units::rad_to_deg(e.yaw);
+  } else {
+    s.status = "DEGRADED";
+  }
+  if (nav.position_valid) {
+    s.lat_deg = units::rad_to_deg(nav.position.lat_rad);
+    s.lon_deg = units::rad_to_deg(nav.position.lon_rad);
+    s.depth_m = -nav.position.alt_m;
+    s.vn_mps = nav.v_n.x();
+    s.ve_mps = nav.v_n.y();
+    s.vd_mps = nav.v_n.z();
+    const bool finite = std::isfinite(s.lat_deg) && std::isfinite(s.lon_deg) &&
+                        std::isfinite(s.depth_m) && nav.v_n.allFinite();
+    if (finite && std::abs(s.lat_deg) <= 90.0 && std::abs(s.lon_deg) <= 180.0) {
+      s.position_valid = true;
+    } else {
+      s.status = "DEGRADED";
+    }
+  }
+  return s;
+}
+
+std::string rejects_text(const RejectCounts& r) {
+  return "checksum=" + std::to_string(r.checksum) + " framing=" + std::to_string(r.framing) +
+         " sync_bytes=" + std::to_string(r.sync_bytes) +
+         " overflow_bytes=" + std::to_string(r.overflow_bytes);
+}
+
+}  // namespace
+
+NavdApp::NavdApp(const NavdOptions& options, const estimator::FilterParams& params,
+                 transport::SerialPort ahrs, std::optional<transport::SerialPort> gps,
+                 transport::SerialPort output, int signal_fd)
+    : options_(options),
+      ahrs_(std::move(ahrs)),
+      gps_(std::move(gps)),
+      output_(std::move(output)),
+      signal_fd_(signal_fd),
+      gps_open_(gps_.has_value()),
+      ahrs_decoder_(&protocols::gx3::parse, protocols::gx3::kCmdAccelRateMag, kInputBufferBytes),
+      gps_decoder_(&protocols::nmea::parse, static_cast<std::uint8_t>('$'), kInputBufferBytes),
+      out_(output_, kOutputQueueBytes),
+      navigator_(params) {}
+
+template <typename Message>
+void NavdApp::read_input(transport::SerialPort& port, bool& open,
+                         StreamDecoder<Message>& decoder, std::vector<Message>& out) {
+  std::array<std::uint8_t, 4096> chunk{};
+  std::size_t total = 0;
+  while (open && total < kReadPerWakeBytes) {
+    auto n = port.read_some(chunk);
+    if (!n) {
+      std::fprintf(stderr, "navd: input closed: %s\n", n.error().detail.c_str());
+      open = false;
+      break;
+    }
+    if (*n == 0) break;  // EAGAIN: everything readable now has been read
+    total += *n;
+    decoder.feed(protocols::ByteSpan(chunk.data(), *n), out);
+  }
+}
+
+void NavdApp::handle_gps(const protocols::nmea::Sentence& s) {
+  namespace nmea = protocols::nmea;
+  if (s.type == "GGA") {
+    const auto gga = nmea::decode_gga(s);
+    if (!gga) {
+      ++gps_counts_.bad_fields;
+      return;
+    }
+    ++gps_counts_.gga;
+    if (gga->quality == 0) {
+      ++gps_counts_.no_fix;
+      return;
+    }
+    if (!gga->lat_deg || !gga->lon_deg || !gga->alt_msl_m) {
+      ++gps_counts_.incomplete;
+      return;
+    }
+    estimator::GpsPosition fix;
+    fix.position.lat_rad = units::deg_to_rad(*gga->lat_deg);
+    fix.position.lon_rad = units::deg_to_rad(*gga->lon_deg);
+    fix.position.alt_m = *gga->alt_msl_m;
+    navigator_.add_gps_position(fix);
+  } else if (s.type == "RMC") {
+    const auto rmc = nmea::decode_rmc(s);
+    if (!rmc) {
+      ++gps_counts_.bad_fields;
+      return;
+    }
+    ++gps_counts_.rmc;
+    if (!rmc->valid) {
+      ++gps_counts_.no_fix;
+      return;
+    }
+    if (!rmc->sog_kn || !rmc->cog_deg) {
+      ++gps_counts_.incomplete;  // receivers leave COG empty when barely moving
+      return;
+    }
+    estimator::GpsVelocity fix;
+    fix.sog_mps = *rmc->sog_kn * units::kKnotToMps;
+    fix.cog_rad = units::deg_to_rad(*rmc->cog_deg);
+    navigator_.add_gps_velocity(fix);
+  } else {
+    ++gps_counts_.other;
+  }
+}
+
+bool NavdApp::signal_pending(int timeout_ms) {
+  pollfd p{signal_fd_, POLLIN, 0};
+  if (::poll(&p, 1, timeout_ms) > 0 && (p.revents & POLLIN) != 0) {
+    signalfd_siginfo info{};
+    if (::read(signal_fd_, &info, sizeof info) == static_cast<ssize_t>(sizeof info)) {
+      const char* name = sigabbrev_np(static_cast<int>(info.ssi_signo));
+      stop_reason_ = std::string("SIG") + (name != nullptr ? name : "?");
+    } else {
+      stop_reason_ = "signal";
+    }
+    return true;
+  }
+  return false;
+}
+
+bool NavdApp::wait_delay() {
+  if (options_.delay_ms <= 0) return true;
+  // Sleeping on the signalfd keeps SIGTERM prompt even with a long delay.
+  return !signal_pending(options_.delay_ms);
+}
+
+bool NavdApp::handle_ahrs(const protocols::gx3::AccelRateMag& m) {
+  navigator_.on_ahrs(to_sample(m));
+  const auto solution = to_solution(navigator_.solution(), m.timer_ticks, seq_++);
+  if (!wait_delay()) return false;
+  if (auto ok = out_.push(protocols::navd::encode(solution)); !ok) {
+    stop_reason_ = "output closed: " + ok.error().detail;
+    return false;
+  }
+  return true;
+}
+
+std::string NavdApp::run() {
+  std::vector<protocols::gx3::AccelRateMag> ahrs_msgs;
+  std::vector<protocols::nmea::Sentence> gps_msgs;
+  while (stop_reason_.empty()) {
+    // Index 0 signals, 1 AHRS, 2 GPS, 3 output; a closed input is skipped (fd -1).
+    std::array<pollfd, 4> fds{};
+    fds[0] = {signal_fd_, POLLIN, 0};
+    fds[1] = {ahrs_open_ ? ahrs_.fd() : -1, POLLIN, 0};
+    fds[2] = {gps_open_ ? gps_->fd() : -1, POLLIN, 0};
+    fds[3] = {output_.fd(), static_cast<short>(out_.empty() ? 0 : POLLOUT), 0};
+    if (::poll(fds.data(), fds.size(), -1) < 0) {
+      if (errno == EINTR) continue;
+      stop_reason_ = std::string("poll failed: ") + std::strerror(errno);
+      break;
+    }
+    if ((fds[0].revents & POLLIN) != 0 && signal_pending(0)) break;
+
+    constexpr short kReadable = POLLIN | POLLHUP | POLLERR | POLLNVAL;
+    ahrs_msgs.clear();
+    gps_msgs.clear();
+    // Trigger port first: GPS bytes that preceded a trigger seen now are readable below.
+    if ((fds[1].revents & kReadable) != 0) read_input(ahrs_, ahrs_open_, ahrs_decoder_, ahrs_msgs);
+    if ((fds[2].revents & kReadable) != 0) read_input(*gps_, gps_open_, gps_decoder_, gps_msgs);
+
+    for (const auto& s : gps_msgs) handle_gps(s);
+    for (const auto& m : ahrs_msgs) {
+      if (!handle_ahrs(m)) break;
+    }
+    if (!stop_reason_.empty()) break;
+
+    if ((fds[3].revents & (POLLHUP | POLLERR | POLLNVAL)) != 0) {
+      stop_reason_ = "output hang-up";
+      break;
+    }
+    if (auto ok = out_.flush(); !ok) {
+      stop_reason_ = "output closed: " + ok.error().detail;
+      break;
+    }
+    if (!ahrs_open_ && !gps_open_) stop_reason_ = "all inputs closed";
+  }
+  (void)out_.flush();  // best effort, never blocking
+  return stop_reason_;
+}
+
+std::string NavdApp::stats_line(const std::string& reason) const {
+  const auto& nav = navigator_.stats();
+  std::string s = "navd: stopped (" + reason + "): ahrs packets=" +
+                  std::to_string(ahrs_decoder_.messages()) + " rejects{" +
+                  rejects_text(ahrs_decoder_.rejects()) + "}";
+  if (gps_) {
+    s += "; gps sentences=" + std::to_string(gps_decoder_.messages()) +
+         " gga=" + std::to_string(gps_counts_.gga) + " rmc=" + std::to_string(gps_counts_.rmc) +
+         " other=" + std::to_string(gps_counts_.other) +
+         " no_fix=" + std::to_string(gps_counts_.no_fix) +
+         " incomplete=" + std::to_string(gps_counts_.incomplete) +
+         " bad_fields=" + std::to_string(gps_counts_.bad_fields) + " rejects{" +
+         rejects_text(gps_decoder_.rejects()) + "}";
+  }
+  s += "; solutions written=" + std::to_string(out_.written()) +
+       " dropped=" + std::to_string(out_.dropped()) +
+       " unsent=" + std::to_string(out_.queued()) +
+       "; filter ahrs_invalid=" + std::to_string(nav.ahrs_rejected_invalid) +
+       " dt_resets=" + std::to_string(nav.dt_resets) +
+       " gps_pos_fused=" + std::to_string(nav.gps_position_fused) +
+       " gps_vel_fused=" + std::to_string(nav.gps_velocity_fused) +
+       " gps_rejected=" + std::to_string(nav.gps_rejected_invalid + nav.gps_rejected_gate) +
+       " numerical_faults=" + std::to_string(nav.numerical_faults);
+  return s;
+}
+
+}  // namespace nav::dut

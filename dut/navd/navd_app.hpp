@@ -1,0 +1,108 @@
+// SPDX-License-Identifier: MIT
+// navd's event loop: one thread, poll(), non-blocking ports.
+//
+//   bench/devices ──AHRS 0xCB──▶ [ahrs tty] ─┐
+//                 ──NMEA GGA/RMC▶ [gps tty] ─┼─ poll() ─▶ wake:
+//   SIGTERM/SIGINT ──────────────▶ [signalfd]┘    1. read every readable input until EAGAIN,
+//                                                    trigger port (AHRS) first, then GPS;
+//                                                    feed each port's stream decoder
+//                                                 2. every decoded GPS sentence → fix queue
+//                                                 3. every decoded 0xCB packet, in arrival
+//                                                    order: navigator step (attitude,
+//                                                    predict, queued fixes) → one $PNVBSOL
+//                                                 4. output queue → [output tty] (never blocks)
+//
+// Why this order: the bench makes any GPS bytes that precede a trigger readable before it
+// writes the trigger, so reading the trigger port first and handling GPS before AHRS within
+// a wake applies every fix at the same trigger on every run (lockstep determinism). No wall
+// clock enters the estimate; only --delay-ms sleeps, and only before writing.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "nav/estimator/navigator.hpp"
+#include "nav/protocols/microstrain_gx3.hpp"
+#include "nav/protocols/nmea0183.hpp"
+#include "nav/transport/serial_port.hpp"
+#include "output_queue.hpp"
+#include "stream_decoder.hpp"
+
+namespace nav::dut {
+
+/// Command-line settings of navd.
+struct NavdOptions {
+  std::string ahrs_path;            ///< 3DM-GX3-25 tty
+  int ahrs_baud = 115200;           ///< [bit/s]
+  std::string gps_path;             ///< NMEA 0183 GPS tty; empty = no GPS
+  int gps_baud = 9600;              ///< [bit/s]
+  std::string output_path;          ///< tty receiving $PNVBSOL
+  int output_baud = 115200;         ///< [bit/s]
+  std::string config_path;          ///< YAML filter parameters; empty = defaults
+  int delay_ms = 0;                 ///< sleep before writing each solution (test aid) [ms]
+};
+
+/// GPS sentence bookkeeping for the exit summary.
+struct GpsCounts {
+  std::uint64_t gga = 0;         ///< GGA sentences decoded
+  std::uint64_t rmc = 0;         ///< RMC sentences decoded
+  std::uint64_t other = 0;       ///< well-formed sentences of other types (ignored)
+  std::uint64_t no_fix = 0;      ///< GGA quality 0 / RMC status V (ignored)
+  std::uint64_t incomplete = 0;  ///< fix without a needed field (lat/lon/alt, SOG/COG)
+  std::uint64_t bad_fields = 0;  ///< GGA/RMC whose fields did not decode
+};
+
+/// The running DUT. Not movable: the output queue refers to the output port it owns.
+class NavdApp {
+ public:
+  /// Takes the opened ports; signal_fd is a signalfd for SIGTERM/SIGINT.
+  NavdApp(const NavdOptions& options, const estimator::FilterParams& params,
+          transport::SerialPort ahrs, std::optional<transport::SerialPort> gps,
+          transport::SerialPort output, int signal_fd);
+  NavdApp(const NavdApp&) = delete;
+  NavdApp& operator=(const NavdApp&) = delete;
+
+  /// Runs until SIGTERM/SIGINT, hang-up of the output, or EOF/hang-up of every input.
+  /// Returns why it stopped (for the summary line).
+  std::string run();
+
+  /// One-line summary: packets per port, rejects by kind, solutions written.
+  std::string stats_line(const std::string& reason) const;
+
+  /// Bytes the output may hold back before dropping old solutions [bytes].
+  static constexpr std::size_t kOutputQueueBytes = 64 * 1024;
+  /// Most undecoded bytes held per input port [bytes].
+  static constexpr std::size_t kInputBufferBytes = 16 * 1024;
+  /// Most bytes read from one port in one wake (the rest waits for the next wake) [bytes].
+  static constexpr std::size_t kReadPerWakeBytes = 64 * 1024;
+
+ private:
+  template <typename Message>
+  void read_input(transport::SerialPort& port, bool& open, StreamDecoder<Message>& decoder,
+                  std::vector<Message>& out);
+  void handle_gps(const protocols::nmea::Sentence& s);
+  /// Steps the navigator and writes one solution; false when a signal or output hang-up
+  /// says to stop.
+  bool handle_ahrs(const protocols::gx3::AccelRateMag& m);
+  bool wait_delay();
+  bool signal_pending(int timeout_ms);
+
+  NavdOptions options_;
+  transport::SerialPort ahrs_;
+  std::optional<transport::SerialPort> gps_;
+  transport::SerialPort output_;
+  int signal_fd_;
+  bool ahrs_open_ = true;
+  bool gps_open_ = false;
+  StreamDecoder<protocols::gx3::AccelRateMag> ahrs_decoder_;
+  StreamDecoder<protocols::nmea::Sentence> gps_decoder_;
+  OutputQueue out_;
+  estimator::Navigator navigator_;
+  std::uint64_t seq_ = 0;
+  GpsCounts gps_counts_;
+  std::string stop_reason_;
+};
+
+}  // namespace nav::dut

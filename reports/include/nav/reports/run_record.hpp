@@ -1,0 +1,101 @@
+// SPDX-License-Identifier: MIT
+// Everything a finished run knows, as plain data: the report writers' only input.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "nav/common/frames.hpp"
+#include "nav/common/time.hpp"
+
+namespace nav::reports {
+
+/// Percentiles of a set of durations [s].
+struct Stats {
+  std::size_t count = 0;
+  double p50_s = 0.0, p99_s = 0.0, max_s = 0.0;
+};
+
+/// Nearest-rank percentiles of values [s]; count 0 when empty.
+Stats summarize(std::vector<double> values_s);
+
+/// One judged check.
+struct CheckResult {
+  std::string name;       ///< e.g. "horizontal_error"
+  bool judged = true;     ///< false: not applicable in this run (e.g. deadline in lockstep)
+  bool passed = false;
+  double value = 0.0;     ///< the figure judged (worst error, misses, ...)
+  double limit = 0.0;     ///< its limit
+  std::string unit;       ///< unit of value and limit ("m", "deg", "misses")
+  std::string detail;     ///< one line for the verdict screen
+};
+
+/// One aligned estimate (only solutions with a valid position).
+struct AlignedSample {
+  double t_s = 0.0;          ///< trigger time of validity (scenario time) [s]
+  Vec3 truth_p_n, est_p_n;   ///< NED [m]
+  Quat truth_q_nb, est_q_nb; ///< attitude body -> NED
+  double distance_m = 0.0;   ///< horizontal distance travelled at t [m]
+};
+
+/// One trigger and the DUT's answer to it.
+struct LatencyRow {
+  std::uint64_t tag = 0;          ///< trigger tag the DUT echoes
+  double t_valid_s = 0.0;         ///< scenario time of validity [s]
+  double wire_end_s = 0.0;        ///< time its last byte was written, since T0 [s]
+  std::optional<double> rx_s;     ///< time the answer was received, since T0 [s]
+  bool missed = false;            ///< late or unanswered
+};
+
+/// Bench lateness of one emitted message.
+struct LatenessRow {
+  std::string device;
+  double scheduled_s = 0.0;  ///< scheduled wire time of the first byte, since T0 [s]
+  double actual_s = 0.0;     ///< when it was written, since T0 [s]
+};
+
+/// A truth sample for truth.tum.
+struct TruthRow {
+  double t_s = 0.0;
+  Vec3 p_n;
+  Quat q_nb;
+};
+
+struct DeviceRow {
+  std::string name, type, port;  ///< port: the path the DUT opened
+  int baud = 0;
+  std::size_t messages = 0, bytes = 0, bytes_dropped = 0;
+};
+
+struct RunRecord {
+  std::string scenario_name, scenario_file, mode, run_dir;
+  std::uint64_t seed = 0;
+  double duration_s = 0.0;
+  std::string started_utc;          ///< ISO 8601 wall time of the start
+  std::string verdict;              ///< PASS, FAIL, BENCH-LATE, DUT crashed, DUT hung
+  int exit_code = 0;
+  std::vector<std::string> dut_command;
+  std::string dut_status;           ///< e.g. "alive", "exited with status 1 at t=0.3 s"
+  std::size_t triggers_sent = 0, answers = 0, unmatched_answers = 0, malformed_output = 0;
+  std::vector<CheckResult> checks;
+  Stats bench_lateness;             ///< realtime only (count 0 in lockstep)
+  double lateness_budget_p99_s = 0.0;
+  Stats dut_latency;                ///< realtime: judged latency; lockstep: compute time
+  std::vector<DeviceRow> devices;
+  std::vector<TruthRow> truth;
+  std::vector<AlignedSample> aligned;
+  std::vector<LatencyRow> latency;
+  std::vector<LatenessRow> lateness;
+  double wall_time_s = 0.0;         ///< how long the run took
+};
+
+/// Writes summary.json, junit.xml, truth.tum, estimate.tum, timeseries.csv, latency.csv and
+/// lateness.csv into dir. Throws std::runtime_error naming the file on an I/O failure.
+void write_reports(const RunRecord& r, const std::string& dir);
+
+/// The one-screen verdict printed at the end of a run.
+std::string verdict_text(const RunRecord& r);
+
+}  // namespace nav::reports

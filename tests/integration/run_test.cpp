@@ -1,0 +1,156 @@
+// SPDX-License-Identifier: MIT
+// End-to-end runs: navbench with navd (or a misbehaving DUT) as a child process over ptys.
+#include <filesystem>
+#include <algorithm>
+#include <regex>
+#include <utility>
+
+#include <nlohmann/json.hpp>
+
+#include "navbench_cli.hpp"
+
+namespace nav::testing {
+namespace {
+
+namespace fs = std::filesystem;
+
+nlohmann::json summary(const fs::path& run) {
+  return nlohmann::json::parse(slurp(run / "summary.json"));
+}
+
+const nlohmann::json* check(const nlohmann::json& s, const std::string& name) {
+  for (const auto& c : s["checks"]) {
+    if (c["name"] == name) return &c;
+  }
+  return nullptr;
+}
+
+TEST(NavbenchRun, RealtimeScenarioWithNavdPasses) {
+  const auto dir = fresh_dir("rt-pass");
+  const auto r = run_navbench(
+      {"run", source_path("tests/integration/scenarios/rt_pass.yaml"), "--out", "run"}, dir);
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("VERDICT: PASS"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("bench lateness  p50"), std::string::npos) << r.out;
+  const auto run = dir / "run";
+  for (const char* f : {"summary.json", "junit.xml", "truth.tum", "estimate.tum",
+                        "timeseries.csv", "latency.csv", "lateness.csv", "capture-tx.log",
+                        "capture-rx.log", "dut.log", "scenario.yaml"}) {
+    EXPECT_TRUE(fs::exists(run / f)) << f;
+  }
+  EXPECT_FALSE(fs::exists(dir / "run.partial"));
+  const auto s = summary(run);
+  EXPECT_EQ(s["verdict"], "PASS");
+  EXPECT_EQ(s["seed"], 7);
+  EXPECT_EQ(s["dut"]["triggers_sent"], 2000);
+  EXPECT_GE(s["dut"]["answers"].get<int>(), 1990);
+  EXPECT_EQ(s["bench_lateness"]["count"].get<int>(), 2000 + 20);
+  // Every emitted message is in the transmit capture, in the documented line format.
+  const std::string tx = slurp(run / "capture-tx.log");
+  const std::regex line(R"(\(\d+\.\d{9}\) (ahrs|gps) [0-9A-F]+\n)");
+  std::size_t lines = 0;
+  for (std::sregex_iterator it(tx.begin(), tx.end(), line), end; it != end; ++it) ++lines;
+  EXPECT_EQ(lines, 2020u);
+}
+
+TEST(NavbenchRun, LockstepRunsAreBitReproducible) {
+  const auto dir = fresh_dir("lockstep");
+  const auto scenario = source_path("tests/integration/scenarios/rt_pass.yaml");
+  const auto a = run_navbench({"run", scenario, "--mode", "lockstep", "--out", "a"}, dir);
+  const auto b = run_navbench({"run", scenario, "--mode", "lockstep", "--out", "b"}, dir);
+  ASSERT_EQ(a.exit_code, 0) << a.out << a.err;
+  ASSERT_EQ(b.exit_code, 0) << b.out << b.err;
+  const std::string ea = slurp(dir / "a" / "estimate.tum");
+  EXPECT_GT(ea.size(), 100000u);  // ~1900 solutions with a position
+  EXPECT_EQ(ea, slurp(dir / "b" / "estimate.tum"));
+  EXPECT_EQ(slurp(dir / "a" / "capture-tx.log"), slurp(dir / "b" / "capture-tx.log"));
+  const auto s = summary(dir / "a");
+  EXPECT_EQ(s["mode"], "lockstep");
+  EXPECT_EQ(s["dut"]["answers"], 2000);
+  EXPECT_FALSE((*check(s, "deadline"))["judged"].get<bool>());
+}
+
+TEST(NavbenchRun, DutThatExitsAtOnceIsReportedCrashed) {
+  const auto dir = fresh_dir("exits");
+  const auto r = run_navbench(
+      {"run", source_path("tests/integration/scenarios/dut_exits.yaml"), "--out", "run"}, dir);
+  EXPECT_EQ(r.exit_code, 4) << r.out << r.err;
+  EXPECT_NE(r.out.find("VERDICT: DUT crashed"), std::string::npos) << r.out;
+  const auto s = summary(dir / "run");  // the report is still written
+  EXPECT_EQ(s["verdict"], "DUT crashed");
+  EXPECT_FALSE((*check(s, "dut_alive"))["passed"].get<bool>());
+}
+
+TEST(NavbenchRun, DutThatStopsAnsweringIsReportedHung) {
+  const auto dir = fresh_dir("hangs");
+  const auto r = run_navbench(
+      {"run", source_path("tests/integration/scenarios/dut_hangs.yaml"), "--out", "run"}, dir);
+  EXPECT_EQ(r.exit_code, 4) << r.out << r.err;
+  EXPECT_NE(r.out.find("VERDICT: DUT hung"), std::string::npos) << r.out;
+  // The watchdog (1 s) ends the 10 s scenario early: the bench never waits for a hung DUT.
+  EXPECT_LT(r.wall_s, 9.0);
+  EXPECT_EQ(summary(dir / "run")["verdict"], "DUT hung");
+}
+
+TEST(NavbenchRun, SlowDutGetsItsDeadlineMissesCounted) {
+  const auto dir = fresh_dir("slow");
+  const auto r = run_navbench(
+      {"run", source_path("tests/integration/scenarios/dut_slow.yaml"), "--out", "run"}, dir);
+  EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+  const auto s = summary(dir / "run");
+  EXPECT_EQ(s["verdict"], "FAIL");
+  const auto* d = check(s, "deadline");
+  ASSERT_NE(d, nullptr);
+  EXPECT_FALSE((*d)["passed"].get<bool>());
+  // 400 triggers in 4 s; a DUT taking 50 ms per solution answers about 20 per second, each
+  // later than 20 ms, so every trigger is a miss (late or never answered).
+  EXPECT_EQ((*d)["value"].get<double>(), 400.0);
+  EXPECT_GE(s["dut_latency"]["p50_ms"].get<double>(), 50.0);
+}
+
+/// The "# expect:" and "# line:" header comments of a malformed scenario file.
+std::pair<std::string, std::string> expectation(const fs::path& p) {
+  const std::string text = slurp(p);
+  std::smatch m1, m2;
+  std::regex_search(text, m1, std::regex(R"(# expect: (.*))"));
+  std::regex_search(text, m2, std::regex(R"(# line: (\d+))"));
+  return {m1[1], m2[1]};
+}
+
+TEST(NavbenchRun, MalformedScenariosExitTwoWithFileLineAndNoRunFolder) {
+  std::size_t n = 0;
+  // malformed/: refused while loading; malformed_path/: loads, but its path cannot be built.
+  for (const char* folder : {"tests/integration/malformed", "tests/integration/malformed_path"}) {
+    for (const auto& e : fs::directory_iterator(source_path(folder))) {
+      if (e.path().extension() != ".yaml") continue;
+      ++n;
+      const auto [expect, line] = expectation(e.path());
+      const auto dir = fresh_dir("malformed");
+      const auto r = run_navbench({"run", e.path().string(), "--out", "run"}, dir);
+      EXPECT_EQ(r.exit_code, 2) << e.path() << r.err;
+      // One line: "navbench: FILE:LINE:COL: what was expected".
+      const std::string prefix = "navbench: " + e.path().string() + ":" + line + ":";
+      EXPECT_EQ(r.err.rfind(prefix, 0), 0u) << r.err;
+      EXPECT_NE(r.err.find(expect), std::string::npos) << r.err;
+      EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+      EXPECT_FALSE(fs::exists(dir / "run"));
+      EXPECT_FALSE(fs::exists(dir / "run.partial"));
+      EXPECT_FALSE(fs::exists(dir / "runs"));
+    }
+  }
+  EXPECT_GE(n, 9u);
+}
+
+TEST(NavbenchCli, HelpAndUsageErrors) {
+  const auto dir = fresh_dir("cli");
+  const auto help = run_navbench({"run", "--help"}, dir);
+  EXPECT_EQ(help.exit_code, 0);
+  EXPECT_NE(help.out.find("--mode"), std::string::npos);
+  const auto missing = run_navbench({"run", "no-such-file.yaml"}, dir);
+  EXPECT_EQ(missing.exit_code, 2);
+  const auto none = run_navbench({}, dir);
+  EXPECT_EQ(none.exit_code, 2);
+}
+
+}  // namespace
+}  // namespace nav::testing

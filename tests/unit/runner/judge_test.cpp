@@ -1,0 +1,134 @@
+// SPDX-License-Identifier: MIT
+#include "nav/bench/judge.hpp"
+
+#include <gtest/gtest.h>
+
+#include "nav/common/units.hpp"
+
+namespace nav::bench {
+namespace {
+
+using namespace std::chrono_literals;
+
+struct JudgeFixture : ::testing::Test {
+  void SetUp() override {
+    sc.datum = geodesy::Geodetic{units::deg_to_rad(36.0), units::deg_to_rad(127.0), 0.0};
+    sc.duration = 10s;
+    emulators::Segment straight;
+    straight.kind = emulators::Segment::Kind::kStraight;
+    straight.length_m = 100.0;
+    straight.speed_mps = 1.0;
+    sc.trajectory.segments = {straight};
+    sc.trajectory.max_accel_mps2 = 1.0;  // at 1 m/s after 1.9 s
+    auto t = emulators::TruthTrajectory::build(sc.trajectory);
+    ASSERT_TRUE(t) << t.error().detail;
+    truth = std::make_unique<emulators::TruthTrajectory>(std::move(*t));
+    table = std::make_unique<TruthTable>(*truth, sc.duration, 50.0);
+  }
+
+  /// A solution at the truth of time t, displaced by d_n (NED) [m].
+  Answer answer_at(std::uint64_t tag, double t_s, const Vec3& d_n, Timestamp rx) const {
+    const auto s = table->at(t_s);
+    const geodesy::LocalTangentPlane ltp(sc.datum);
+    const auto g = ltp.to_geodetic(s.p_n + d_n);
+    const Euler e = euler_from_quat(s.q_nb);
+    Answer a;
+    a.rx = rx;
+    a.solution.trigger_tag = tag;
+    a.solution.position_valid = true;
+    a.solution.lat_deg = units::rad_to_deg(g.lat_rad);
+    a.solution.lon_deg = units::rad_to_deg(g.lon_rad);
+    a.solution.depth_m = -g.alt_m;
+    a.solution.roll_deg = units::rad_to_deg(e.roll);
+    a.solution.pitch_deg = units::rad_to_deg(e.pitch);
+    a.solution.yaw_deg = units::rad_to_deg(e.yaw) + 1.0;  // 1 degree yaw error
+    return a;
+  }
+
+  Scenario sc;
+  std::unique_ptr<emulators::TruthTrajectory> truth;
+  std::unique_ptr<TruthTable> table;
+};
+
+TEST_F(JudgeFixture, TruthTableInterpolatesBetweenSamples) {
+  // Between two 50 Hz samples the interpolated position equals the generator's own value
+  // (to the accuracy of linear interpolation over 20 ms).
+  for (double t : {0.013, 2.5071, 7.777}) {
+    EXPECT_LT((table->at(t).p_n - truth->at(from_seconds(t)).p_n).norm(), 1e-4) << t;
+  }
+}
+
+TEST_F(JudgeFixture, ErrorsLatencyAndMissesAreMeasured) {
+  sc.checks = {
+      {CheckSpec::Kind::kHorizontalError, 0.6, 0.0, 0s, "", 0, "horizontal_error"},
+      {CheckSpec::Kind::kVerticalError, 0.5, 0.0, 0s, "", 0, "vertical_error"},
+      {CheckSpec::Kind::kAttitudeError, units::deg_to_rad(2.0), 0.0, 0s, "", 0, "attitude_error"},
+      {CheckSpec::Kind::kEndpointError, 0.5, 0.0, 0s, "", 0, "endpoint_error"},
+      {CheckSpec::Kind::kDeadline, 0.010, 0.0, 0s, "ahrs", 1, "deadline"},
+  };
+  JudgeInput in;
+  in.scenario = &sc;
+  in.truth = table.get();
+  in.t0 = Timestamp{1'000'000'000};
+  // Three triggers: answered in 2 ms, answered in 30 ms (a miss), never answered (a miss).
+  for (std::uint64_t k = 0; k < 3; ++k) {
+    const double t = 1.0 + static_cast<double>(k);
+    in.triggers.push_back({100 + k, from_seconds(t), true, in.t0 + from_seconds(t)});
+  }
+  in.answers.push_back(answer_at(100, 1.0, Vec3(0.3, 0.4, 0.1), in.triggers[0].wire_end + 2ms));
+  in.answers.push_back(answer_at(101, 2.0, Vec3(0.0, 0.0, 0.0), in.triggers[1].wire_end + 30ms));
+  in.answers.push_back(answer_at(999, 2.5, Vec3(0.0, 0.0, 0.0), in.t0 + 3s));  // names nothing
+  in.dut_status = "alive";
+  const JudgeOutput out = judge(in);
+
+  EXPECT_EQ(out.unmatched_answers, 1u);
+  ASSERT_EQ(out.aligned.size(), 2u);
+  ASSERT_EQ(out.checks.size(), 5u);
+  EXPECT_NEAR(out.checks[0].value, 0.5, 1e-6);  // |(0.3, 0.4)|
+  EXPECT_TRUE(out.checks[0].passed);
+  EXPECT_NEAR(out.checks[1].value, 0.1, 1e-6);
+  EXPECT_NEAR(out.checks[2].value, 1.0, 1e-3);  // degrees
+  EXPECT_TRUE(out.checks[2].passed);
+  EXPECT_NEAR(out.checks[3].value, 0.0, 1e-6);  // the last solution is on truth
+  EXPECT_EQ(out.checks[4].value, 2.0);          // 30 ms late + unanswered
+  EXPECT_FALSE(out.checks[4].passed);           // 2 misses > 1 allowed
+  ASSERT_EQ(out.latency.size(), 3u);
+  EXPECT_FALSE(out.latency[0].missed);
+  EXPECT_TRUE(out.latency[1].missed);
+  EXPECT_FALSE(out.latency[2].rx_s.has_value());
+  EXPECT_EQ(out.dut_latency.count, 2u);
+  EXPECT_NEAR(out.dut_latency.max_s, 0.030, 1e-9);
+}
+
+TEST_F(JudgeFixture, EnvelopeGrowsWithDistanceAndStartsAfter) {
+  // 1.5 m error at t=5 s, about 4 m travelled: fails a 1 m envelope, passes 1 m + 20 % of
+  // the distance, and is not judged by a check from 6 s on.
+  JudgeInput in;
+  in.scenario = &sc;
+  in.truth = table.get();
+  in.triggers.push_back({1, 5s, true, Timestamp{5s}});
+  in.answers.push_back(answer_at(1, 5.0, Vec3(1.5, 0.0, 0.0), Timestamp{5s + 1ms}));
+  sc.checks = {{CheckSpec::Kind::kHorizontalError, 1.0, 0.0, 0s, "", 0, "flat"},
+               {CheckSpec::Kind::kHorizontalError, 1.0, 0.2, 0s, "", 0, "growing"},
+               {CheckSpec::Kind::kHorizontalError, 1.0, 0.0, 6s, "", 0, "late"}};
+  const auto out = judge(in);
+  EXPECT_FALSE(out.checks[0].passed);
+  EXPECT_TRUE(out.checks[1].passed) << out.checks[1].detail;
+  EXPECT_FALSE(out.checks[2].passed);  // nothing to judge is not a pass
+  EXPECT_NE(out.checks[2].detail.find("no solutions"), std::string::npos);
+}
+
+TEST_F(JudgeFixture, DeadlineIsNotJudgedInLockstep) {
+  sc.mode = TimeMode::kLockstep;
+  sc.checks = {{CheckSpec::Kind::kDeadline, 0.001, 0.0, 0s, "ahrs", 0, "deadline"}};
+  JudgeInput in;
+  in.scenario = &sc;
+  in.truth = table.get();
+  in.triggers.push_back({1, 1s, true, Timestamp{1s}});
+  in.answers.push_back(answer_at(1, 1.0, Vec3::Zero(), Timestamp{1s + 50ms}));
+  const auto out = judge(in);
+  EXPECT_FALSE(out.checks[0].judged);
+}
+
+}  // namespace
+}  // namespace nav::bench
