@@ -24,6 +24,7 @@
 #include "nav/bench/pty.hpp"
 #include "nav/bench/wire_schedule.hpp"
 #include "nav/reports/run_record.hpp"
+#include "nav/transport/serial_port.hpp"
 
 namespace nav::bench {
 namespace {
@@ -90,17 +91,66 @@ FilePtr open_file(const fs::path& p) {
   return f;
 }
 
+/// The bench's end of one serial line: a pty (the DUT opens its slave path) or a real port
+/// (a cable to the DUT's own port).
+struct Line {
+  std::optional<Pty> pty;
+  std::optional<transport::SerialPort> serial;
+  int fd() const { return pty ? pty->master() : serial->fd(); }
+  /// The path that "{port:NAME}" stands for.
+  std::string path() const { return pty ? pty->slave_path() : serial->path(); }
+  /// Lockstep ordering across lines (see Pty::flush_to_slave); a real line needs none.
+  void flush() const {
+    if (pty) pty->flush_to_slave();
+  }
+};
+
+Result<Line> open_line(const std::string& port, int baud) {
+  Line l;
+  if (port == "pty") {
+    auto p = Pty::open();
+    if (!p) return tl::unexpected(p.error());
+    l.pty.emplace(std::move(*p));
+  } else {
+    auto s = transport::SerialPort::open(port, baud);
+    if (!s) return tl::unexpected(s.error());
+    l.serial.emplace(std::move(*s));
+  }
+  return l;
+}
+
+/// One line per device, then the DUT's output line; an error names the device.
+Result<std::vector<Line>> open_lines(const Scenario& sc) {
+  std::vector<Line> lines;
+  for (std::size_t i = 0; i <= sc.devices.size(); ++i) {
+    const bool output = i == sc.devices.size();
+    auto l = output ? open_line(sc.dut.output_port, sc.dut.output_baud)
+                    : open_line(sc.devices[i].port, sc.devices[i].baud);
+    if (!l) {
+      return fail(l.error().code, l.error().detail + " (" +
+                                      (output ? std::string("dut.output")
+                                              : "device '" + sc.devices[i].name + "'") + ")");
+    }
+    lines.push_back(std::move(*l));
+  }
+  return lines;
+}
+
 /// Everything one run holds while it executes.
 class Run {
  public:
-  Run(Scenario sc, emulators::TruthTrajectory truth, fs::path dir, bool quiet)
-      : sc_(std::move(sc)), truth_(std::move(truth)), dir_(std::move(dir)), quiet_(quiet) {}
+  Run(Scenario sc, emulators::TruthTrajectory truth, std::vector<Line> lines, fs::path dir,
+      bool quiet)
+      : sc_(std::move(sc)),
+        truth_(std::move(truth)),
+        dir_(std::move(dir)),
+        quiet_(quiet),
+        lines_(std::move(lines)) {}
 
   reports::RunRecord execute();
 
  private:
   void generate();
-  void open_ports();
   std::vector<std::string> dut_argv() const;
   void run_realtime();
   void run_lockstep();
@@ -117,11 +167,11 @@ class Run {
   emulators::TruthTrajectory truth_;
   fs::path dir_;
   bool quiet_;
+  std::vector<Line> lines_;  // one per device, then the DUT's output
 
   std::vector<std::vector<emulators::WireMessage>> streams_;
   WireSchedule schedule_;
   std::uint32_t trigger_device_ = 0;
-  std::vector<Pty> ptys_;  // one per device, then the output
   std::unique_ptr<DutProcess> dut_;
   std::unique_ptr<OutputReader> reader_;
   FilePtr tx_capture_, rx_capture_;
@@ -162,14 +212,6 @@ void Run::generate() {
   messages_sent_.assign(sc_.devices.size(), 0);
 }
 
-void Run::open_ports() {
-  for (std::size_t i = 0; i <= sc_.devices.size(); ++i) {
-    auto p = Pty::open();
-    if (!p) throw std::runtime_error(p.error().detail);
-    ptys_.push_back(std::move(*p));
-  }
-}
-
 std::vector<std::string> Run::dut_argv() const {
   std::vector<std::string> argv;
   for (std::string a : sc_.dut.command) {
@@ -177,7 +219,7 @@ std::vector<std::string> Run::dut_argv() const {
       const std::string key =
           "{port:" + (d < sc_.devices.size() ? sc_.devices[d].name : std::string("output")) + "}";
       for (auto pos = a.find(key); pos != std::string::npos; pos = a.find(key)) {
-        a.replace(pos, key.size(), ptys_[d].slave_path());
+        a.replace(pos, key.size(), lines_[d].path());
       }
     }
     argv.push_back(a);
@@ -234,7 +276,7 @@ void Run::run_realtime() {
     const ScheduledMessage& m = schedule_.messages[c.message];
     const auto& bytes = message(m).bytes;
     const Timestamp start = monotonic_now();
-    const ssize_t n = ::write(ptys_[m.device].master(), bytes.data() + c.offset, c.length);
+    const ssize_t n = ::write(lines_[m.device].fd(), bytes.data() + c.offset, c.length);
     const Timestamp done = monotonic_now();
     // A serial line never blocks: bytes the DUT does not take are lost, like a UART overrun.
     const std::size_t written = n > 0 ? static_cast<std::size_t>(n) : 0;
@@ -264,7 +306,7 @@ void Run::run_lockstep() {
     if (g_interrupted) return;
     const ScheduledMessage& m = schedule_.messages[k];
     const auto& bytes = message(m).bytes;
-    const int fd = ptys_[m.device].master();
+    const int fd = lines_[m.device].fd();
     std::size_t off = 0;
     const Timestamp give_up = monotonic_now() + sc_.dut.watchdog;
     while (off < bytes.size()) {
@@ -284,7 +326,7 @@ void Run::run_lockstep() {
     write_capture(tx_capture_.get(), m.start, sc_.devices[m.device].name, bytes);
     progress(m.start);
     if (!is_trigger(m)) {
-      ptys_[m.device].flush_to_slave();  // visible to the DUT before the next trigger
+      lines_[m.device].flush();  // visible to the DUT before the next trigger
       continue;
     }
     auto& tr = triggers_[trigger_of_message_.at(k)];
@@ -314,7 +356,6 @@ reports::RunRecord Run::execute() {
   rec.started_utc = utc_now("%Y-%m-%dT%H:%M:%SZ");
   const Timestamp wall_start = monotonic_now();
   generate();
-  open_ports();
   tx_capture_ = open_file(dir_ / "capture-tx.log");
   rx_capture_ = open_file(dir_ / "capture-rx.log");
   fs::copy_file(sc_.file, dir_ / "scenario.yaml");
@@ -324,7 +365,7 @@ reports::RunRecord Run::execute() {
   auto dut = DutProcess::start(argv, (dir_ / "dut.log").string());
   if (!dut) throw std::runtime_error(dut.error().detail);
   dut_ = std::make_unique<DutProcess>(std::move(*dut));
-  reader_ = std::make_unique<OutputReader>(ptys_.back().master(), rx_capture_.get(), t0_);
+  reader_ = std::make_unique<OutputReader>(lines_.back().fd(), rx_capture_.get(), t0_);
   reader_->start();
   try_realtime_priority(20);
   while (monotonic_now() < t0_ && !g_interrupted && dut_ok(monotonic_now())) {
@@ -368,7 +409,7 @@ reports::RunRecord Run::execute() {
   for (const auto& s : table.samples()) rec.truth.push_back({to_seconds(s.t), s.p_n, s.q_nb});
   for (std::size_t d = 0; d < sc_.devices.size(); ++d) {
     const auto& dev = sc_.devices[d];
-    rec.devices.push_back({dev.name, device_type_name(dev.type), ptys_[d].slave_path(), dev.baud,
+    rec.devices.push_back({dev.name, device_type_name(dev.type), lines_[d].path(), dev.baud,
                            messages_sent_[d], bytes_sent_[d], bytes_dropped_[d]});
   }
   const bool any_failed = std::any_of(rec.checks.begin(), rec.checks.end(),
@@ -423,6 +464,11 @@ int run_scenario(const RunOptions& o) {
                  "navbench and in PATH)\n", sc->file.c_str(), sc->dut.command.front().c_str());
     return kExitUsage;
   }
+  auto lines = open_lines(*sc);
+  if (!lines) {
+    std::fprintf(stderr, "navbench: %s\n", lines.error().detail.c_str());
+    return kExitBench;
+  }
   const fs::path final_dir =
       o.out_dir.empty() ? fs::path("runs") / (sc->name + "-" + utc_now("%Y%m%dT%H%M%SZ"))
                         : fs::path(o.out_dir);
@@ -448,7 +494,7 @@ int run_scenario(const RunOptions& o) {
   ::signal(SIGPIPE, SIG_IGN);
 
   try {
-    Run run(std::move(*sc), std::move(*truth), partial, o.quiet);
+    Run run(std::move(*sc), std::move(*truth), std::move(*lines), partial, o.quiet);
     reports::RunRecord rec = run.execute();
     rec.run_dir = final_dir.string();
     reports::write_reports(rec, partial.string());

@@ -141,6 +141,18 @@ TEST(NavbenchRun, MalformedScenariosExitTwoWithFileLineAndNoRunFolder) {
   EXPECT_GE(n, 9u);
 }
 
+TEST(NavbenchRun, MissingSerialDeviceIsABenchErrorBeforeAnythingStarts) {
+  const auto dir = fresh_dir("missing-device");
+  const auto r = run_navbench(
+      {"run", source_path("tests/integration/scenarios/missing_device.yaml"), "--out", "run"},
+      dir);
+  EXPECT_EQ(r.exit_code, 3) << r.err;
+  EXPECT_EQ(r.err, "navbench: cannot open /dev/ttyNAVBENCH9: No such file or directory "
+                   "(device 'gps')\n");
+  EXPECT_FALSE(fs::exists(dir / "run"));
+  EXPECT_FALSE(fs::exists(dir / "run.partial"));
+}
+
 TEST(NavbenchCli, HelpAndUsageErrors) {
   const auto dir = fresh_dir("cli");
   const auto help = run_navbench({"run", "--help"}, dir);
