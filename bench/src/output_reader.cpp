@@ -7,24 +7,12 @@
 #include <algorithm>
 #include <cerrno>
 #include <chrono>
-#include <cinttypes>
 
+#include "nav/bench/capture.hpp"
 #include "nav/protocols/nmea0183.hpp"
 
 namespace nav::bench {
 
-namespace {
-/// "(<sec>.<nsec>) <port> <hex>" with times relative to t0; negative before t0.
-void write_capture_line(std::FILE* f, Duration since_t0, const char* port,
-                        const std::uint8_t* data, std::size_t n) {
-  const std::int64_t ns = since_t0.count();
-  const std::int64_t a = ns < 0 ? -ns : ns;
-  std::fprintf(f, "(%s%" PRId64 ".%09" PRId64 ") %s ", ns < 0 ? "-" : "", a / 1'000'000'000,
-               a % 1'000'000'000, port);
-  for (std::size_t i = 0; i < n; ++i) std::fprintf(f, "%02X", data[i]);
-  std::fputc('\n', f);
-}
-}  // namespace
 
 OutputReader::OutputReader(int fd, std::FILE* capture, Timestamp t0)
     : fd_(fd), capture_(capture), t0_(t0) {}
@@ -55,7 +43,8 @@ void OutputReader::loop() {
       const ssize_t n = ::read(fd_, chunk, sizeof chunk);
       if (n <= 0) break;  // EAGAIN: drained; EIO: no writer at the moment
       const Timestamp rx = monotonic_now();
-      write_capture_line(capture_, rx - t0_, "output", chunk, static_cast<std::size_t>(n));
+      write_capture_line(capture_, rx - t0_, "output",
+                         std::span(chunk, static_cast<std::size_t>(n)));
       std::lock_guard lock(mutex_);
       buffer_.insert(buffer_.end(), chunk, chunk + n);
       consume(rx);

@@ -18,6 +18,7 @@
 #include <thread>
 #include <unordered_map>
 
+#include "nav/bench/capture.hpp"
 #include "nav/bench/dut_process.hpp"
 #include "nav/bench/judge.hpp"
 #include "nav/bench/output_reader.hpp"
@@ -65,17 +66,6 @@ void try_realtime_priority(int priority) {
 
 std::string device_type_name(DeviceSpec::Type t) {
   return t == DeviceSpec::Type::kMicrostrainGx3 ? "microstrain-gx3-25" : "nmea0183-gps";
-}
-
-void write_capture(std::FILE* f, Duration since_t0, const std::string& port,
-                   const protocols::Bytes& bytes) {
-  const std::int64_t ns = since_t0.count();
-  const std::int64_t a = ns < 0 ? -ns : ns;
-  std::fprintf(f, "(%s%lld.%09lld) %s ", ns < 0 ? "-" : "",
-               static_cast<long long>(a / 1'000'000'000), static_cast<long long>(a % 1'000'000'000),
-               port.c_str());
-  for (auto b : bytes) std::fprintf(f, "%02X", b);
-  std::fputc('\n', f);
 }
 
 struct FileCloser {
@@ -289,8 +279,8 @@ void Run::run_realtime() {
     }
     if (c.offset + c.length == bytes.size()) {
       ++messages_sent_[m.device];
-      write_capture(tx_capture_.get(), first_byte[c.message] - t0_, sc_.devices[m.device].name,
-                    bytes);
+      write_capture_line(tx_capture_.get(), first_byte[c.message] - t0_,
+                         sc_.devices[m.device].name, bytes);
       if (is_trigger(m)) {
         auto& tr = triggers_[trigger_of_message_.at(c.message)];
         tr.sent = true;
@@ -323,7 +313,7 @@ void Run::run_lockstep() {
     bytes_sent_[m.device] += off;
     bytes_dropped_[m.device] += bytes.size() - off;
     ++messages_sent_[m.device];
-    write_capture(tx_capture_.get(), m.start, sc_.devices[m.device].name, bytes);
+    write_capture_line(tx_capture_.get(), m.start, sc_.devices[m.device].name, bytes);
     progress(m.start);
     if (!is_trigger(m)) {
       lines_[m.device].flush();  // visible to the DUT before the next trigger
