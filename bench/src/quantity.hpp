@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Physical quantities written in scenario files: "<number> <unit>" or "<number><unit>",
-// converted to SI. Pure text functions, no YAML: scenario.cpp adds the file:line:col.
+// converted to SI. Pure text functions, no YAML: yaml_reader.cpp adds the file:line:col.
 //
 // Units per dimension (factor to SI in brackets where not obvious):
 //   time             s, ms, us, min, h                                  -> s
