@@ -51,6 +51,18 @@ TEST(NavbenchRun, RealtimeScenarioWithNavdPasses) {
   std::size_t lines = 0;
   for (std::sregex_iterator it(tx.begin(), tx.end(), line), end; it != end; ++it) ++lines;
   EXPECT_EQ(lines, 2020u);
+
+  // The captures decode back: every AHRS packet sent, every solution received.
+  const auto ahrs = run_navbench({"decode", "--protocol", "microstrain-gx3", "--port", "ahrs",
+                                  (run / "capture-tx.log").string()}, dir);
+  EXPECT_EQ(ahrs.exit_code, 0) << ahrs.err;
+  EXPECT_NE(ahrs.err.find(": 2000 messages, 0 errors"), std::string::npos) << ahrs.err;
+  const auto out = run_navbench({"decode", "--protocol", "nmea0183", "--port", "output",
+                                 (run / "capture-rx.log").string()}, dir);
+  EXPECT_EQ(out.exit_code, 0) << out.err;
+  EXPECT_NE(out.err.find(": " + std::to_string(s["dut"]["answers"].get<int>()) +
+                         " messages, 0 errors"), std::string::npos) << out.err;
+  EXPECT_NE(out.out.find(R"({"type":"NVBSOL","talker":"P","input":"AHRS")"), std::string::npos);
 }
 
 TEST(NavbenchRun, LockstepRunsAreBitReproducible) {
