@@ -400,7 +400,8 @@ reports::RunRecord Run::execute() {
   for (std::size_t d = 0; d < sc_.devices.size(); ++d) {
     const auto& dev = sc_.devices[d];
     rec.devices.push_back({dev.name, device_type_name(dev.type), lines_[d].path(), dev.baud,
-                           messages_sent_[d], bytes_sent_[d], bytes_dropped_[d]});
+                           emulators::device_seed(sc_.seed, dev.name), messages_sent_[d],
+                           bytes_sent_[d], bytes_dropped_[d]});
   }
   const bool any_failed = std::any_of(rec.checks.begin(), rec.checks.end(),
                                       [](const auto& c) { return c.judged && !c.passed; });

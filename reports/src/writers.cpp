@@ -56,7 +56,14 @@ std::string xml_escape(const std::string& s) {
 
 void write_summary(const RunRecord& r, const std::string& dir) {
   nlohmann::json j;
-  j["navbench_version"] = NAV_VERSION;
+  j["versions"] = {{"navbench", NAV_VERSION},
+                   {"compiler", __VERSION__},
+                   {"eigen", std::to_string(EIGEN_WORLD_VERSION) + "." +
+                                 std::to_string(EIGEN_MAJOR_VERSION) + "." +
+                                 std::to_string(EIGEN_MINOR_VERSION)},
+                   {"nlohmann_json", std::to_string(NLOHMANN_JSON_VERSION_MAJOR) + "." +
+                                         std::to_string(NLOHMANN_JSON_VERSION_MINOR) + "." +
+                                         std::to_string(NLOHMANN_JSON_VERSION_PATCH)}};
   j["scenario"] = {{"name", r.scenario_name}, {"file", r.scenario_file}};
   j["seed"] = r.seed;
   j["mode"] = r.mode;
@@ -79,7 +86,7 @@ void write_summary(const RunRecord& r, const std::string& dir) {
   j["dut_latency"] = stats_json(r.dut_latency);
   for (const auto& d : r.devices) {
     j["devices"].push_back({{"name", d.name},        {"type", d.type},
-                            {"port", d.port},        {"baud", d.baud},
+                            {"port", d.port},        {"baud", d.baud}, {"seed", d.seed},
                             {"messages", d.messages}, {"bytes", d.bytes},
                             {"bytes_dropped", d.bytes_dropped}});
   }

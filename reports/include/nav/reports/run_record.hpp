@@ -66,6 +66,7 @@ struct TruthRow {
 struct DeviceRow {
   std::string name, type, port;  ///< port: the path the DUT opened
   int baud = 0;
+  std::uint64_t seed = 0;  ///< the device's own engine seed, derived from the scenario seed
   std::size_t messages = 0, bytes = 0, bytes_dropped = 0;
 };
 
