@@ -207,6 +207,10 @@ std::optional<double> parse_number(std::string_view field) {
   return v;
 }
 
+std::string format_time_of_day(const UtcTime& t) { return format_time(t); }
+
+bool parse_time_of_day(std::string_view field, UtcTime& t) { return parse_time(field, t); }
+
 std::uint8_t checksum(std::string_view body) {
   std::uint8_t sum = 0;
   for (const char c : body) sum = static_cast<std::uint8_t>(sum ^ static_cast<std::uint8_t>(c));

@@ -77,6 +77,47 @@ Sentence to_sentence(const Rmc& r, std::string talker = "GP");
 Result<Gga> decode_gga(const Sentence& s);
 Result<Rmc> decode_rmc(const Sentence& s);
 
+/// VTG: course and speed over ground. Encoded in the NMEA >= 3.01 form with unit letters
+/// (`cog_t,T,cog_m,M,sog_kn,N,sog_kmh,K[,mode]`); decode_vtg() also reads the old form
+/// without unit letters (`cog_t,cog_m,sog_kn,sog_kmh`), told apart by field 2 == "T".
+struct Vtg {
+  std::optional<double> cog_true_deg;  ///< course over ground, true [deg]
+  std::optional<double> cog_mag_deg;   ///< course over ground, magnetic [deg]
+  std::optional<double> sog_kn;        ///< speed over ground [knots]
+  std::optional<double> sog_kmh;       ///< speed over ground [km/h], sent as its own field
+  std::optional<char> mode;            ///< FAA mode (NMEA >= 2.3); nullopt: no mode field
+};
+
+/// HDT: true heading (gyro compass, INS or GNSS compass).
+struct Hdt {
+  std::optional<double> heading_deg;  ///< true heading [deg] in [0, 360); nullopt: empty field
+};
+
+/// ZDA: UTC date and time with the local time zone.
+struct Zda {
+  UtcTime time;                     ///< UTC date and time of day (date required)
+  std::optional<int> zone_hours;    ///< local zone hours [h], -13..13; nullopt: empty field
+  std::optional<int> zone_minutes;  ///< local zone minutes [min], 0..59; nullopt: empty field
+};
+
+/// Builds VTG (courses with 2 decimals, speeds with 3), HDT (2 decimals) and ZDA sentences.
+Sentence to_sentence(const Vtg& v, std::string talker = "GP");
+Sentence to_sentence(const Hdt& h, std::string talker = "GP");
+Sentence to_sentence(const Zda& z, std::string talker = "GP");
+
+/// Decodes VTG (either form) / HDT / ZDA fields; a field that does not parse is an error
+/// naming it.
+Result<Vtg> decode_vtg(const Sentence& s);
+Result<Hdt> decode_hdt(const Sentence& s);
+Result<Zda> decode_zda(const Sentence& s);
+
+/// "hhmmss.ss" of a time of day, rounded to the centisecond and wrapped into one day.
+std::string format_time_of_day(const UtcTime& t);
+
+/// Parses "hhmmss[.sss]" into the time-of-day part of t; an empty field leaves t unchanged.
+/// False if the field is not a time of day.
+bool parse_time_of_day(std::string_view field, UtcTime& t);
+
 /// Field text helpers shared by every NMEA-framed codec; locale-independent
 /// (std::to_chars / std::from_chars), so a process locale with ',' decimals cannot break them.
 
