@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <random>
 #include <string>
@@ -53,6 +54,77 @@ class TriadErrorModel {
  private:
   TriadErrors e_;
   Vec3 walk_;
+};
+
+/// One part per million, for scale-factor errors given in ppm [-].
+inline constexpr double kPpm = 1e-6;
+
+/// Misalignment matrix of a sensor triad from three small angles (error_model.cpp, Eq. (E2)):
+/// the sensor axes are rotated by the small rotation vector theta with respect to the ideal
+/// axes (R_is ~ I + [theta]x), so a vector x of the ideal frame is measured as
+/// M x = (I - [theta]x) x, a first-order rotation (orthogonal up to O(|theta|^2)).
+Mat3 small_angle_misalignment(const Vec3& theta_rad);
+
+/// Every error of a triad sensor: the random terms of TriadErrors plus the deterministic
+/// distortions of the sensor (scale factor, misalignment, saturation, quantization).
+/// Defaults are "none" for every added term.
+struct TriadSensorErrors {
+  TriadErrors random;                      ///< white noise, bias, bias random walk [unit]
+  Vec3 scale_factor = Vec3::Zero();        ///< per-axis scale-factor error, fraction [-];
+                                           ///< 250 ppm = 250 * kPpm
+  Vec3 misalignment_rad = Vec3::Zero();    ///< small rotation of the sensor axes, ideal
+                                           ///< frame (x, y, z) [rad]
+  double saturation = std::numeric_limits<double>::infinity();  ///< range: each axis
+                                           ///< clipped to [-saturation, +saturation] [unit]
+  double quantum = 0.0;                    ///< LSB of the output, 0 = not quantized [unit]
+};
+
+/// Applies a TriadSensorErrors model in the documented order (error_model.cpp, Eq. (E1)):
+/// misalignment and scale factor, then bias and bias walk, then white noise, then saturation,
+/// then quantization. The random draws are exactly those of TriadErrorModel (six normals per
+/// call: walk x, y, z, then white x, y, z); the added terms draw nothing, so enabling them
+/// leaves every draw unchanged, and with all added terms at their defaults the output is
+/// bit-identical to TriadErrorModel's (for finite truth).
+class TriadSensorErrorModel {
+ public:
+  /// Checks the parameters (finite; saturation > 0; quantum >= 0 and finite) by NAV_ENSURE.
+  explicit TriadSensorErrorModel(const TriadSensorErrors& e);
+  /// Measured value of a truth vector, ideal frame in, sensor frame out [unit]; dt_s advances
+  /// the random walk [s] (0 for the first sample).
+  Vec3 apply(const Vec3& truth, double dt_s, std::mt19937_64& rng);
+  /// Deterministic linear part K = (I + diag(scale_factor)) * M(misalignment) [-].
+  const Mat3& gain() const { return K_; }
+  /// Current bias random-walk state [unit].
+  const Vec3& walk() const { return random_.walk(); }
+
+ private:
+  TriadSensorErrors e_;
+  Mat3 K_;  ///< (I + diag(s)) M [-]
+  TriadErrorModel random_;
+};
+
+/// Hard- and soft-iron disturbance of the vehicle at a magnetometer (error_model.cpp,
+/// Eq. (E3)): b_dist = W b + h, with b the undisturbed field in the sensor's ideal frame.
+struct HardSoftIron {
+  Vec3 hard_iron_T = Vec3::Zero();     ///< h: field of the vehicle's permanent magnetisation,
+                                       ///< ideal sensor frame [T]
+  Mat3 soft_iron = Mat3::Identity();   ///< W: induced magnetisation, identity = none [-]
+  /// Disturbed field W b + h [T].
+  Vec3 apply(const Vec3& b_T) const;
+};
+
+/// A magnetometer: the vehicle's hard/soft iron acts on the field first (it is physics, not
+/// sensor error), then the sensor's TriadSensorErrorModel (same draws as that model).
+class MagnetometerErrorModel {
+ public:
+  /// Checks the parameters (all finite; det W > 0: invertible, no reflection) by NAV_ENSURE.
+  MagnetometerErrorModel(const HardSoftIron& iron, const TriadSensorErrors& sensor);
+  /// Measured field of the Earth field b_T in the sensor's ideal frame [T].
+  Vec3 apply(const Vec3& b_T, double dt_s, std::mt19937_64& rng);
+
+ private:
+  HardSoftIron iron_;
+  TriadSensorErrorModel sensor_;
 };
 
 /// MicroStrain 3DM-GX3-25 streaming 0xCB (accel, rate, mag) in continuous mode.
