@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <sstream>
 
+#include "decode_builders.hpp"
 #include "nav/common/units.hpp"
 #include "nav/protocols/microstrain_gx3.hpp"
 #include "nav/protocols/navd_solution.hpp"
@@ -14,37 +15,60 @@ namespace nav::bench {
 namespace {
 
 using json = nlohmann::ordered_json;
+using detail::with;
 using protocols::ParseResult;
 using protocols::ParseStatus;
-
-/// Carries a parser's status and counts over to a JSON result.
-template <typename M>
-ParseResult<json> with(const ParseResult<M>& r, json j) {
-  ParseResult<json> out{r.status, r.consumed, std::nullopt, r.error};
-  if (r.status == ParseStatus::kComplete) out.message = std::move(j);
-  return out;
-}
 
 json triad(const std::array<float, 3>& v, double scale) {
   return json::array({v[0] * scale, v[1] * scale, v[2] * scale});
 }
 
+json gx3_accel_rate_mag_json(const protocols::gx3::AccelRateMag& m) {
+  return json{{"type", "gx3_accel_rate_mag"},
+              {"accel_mps2", triad(m.accel_g, units::kStandardGravity)},
+              {"rate_radps", triad(m.rate_radps, 1.0)},
+              {"mag_uT", triad(m.mag_gauss, units::kGaussToTesla * 1e6)},
+              {"timer_ticks", m.timer_ticks},
+              {"timer_s", m.timer_ticks / protocols::gx3::kTicksPerSecond}};
+}
+
+json gx3_euler_json(const protocols::gx3::EulerAngles& m) {
+  return json{{"type", "gx3_euler_angles"},
+              {"roll_rad", m.roll_rad},
+              {"pitch_rad", m.pitch_rad},
+              {"yaw_rad", m.yaw_rad},
+              {"timer_ticks", m.timer_ticks},
+              {"timer_s", m.timer_ticks / protocols::gx3::kTicksPerSecond}};
+}
+
+json gx3_continuous_json(const protocols::gx3::ContinuousModeReply& m) {
+  return json{{"type", "gx3_continuous_mode"},
+              {"command", m.command},
+              {"timer_ticks", m.timer_ticks},
+              {"timer_s", m.timer_ticks / protocols::gx3::kTicksPerSecond}};
+}
+
+/// Every GX3 reply parser at this byte; the one that completes wins.
 ParseResult<json> parse_gx3(protocols::ByteSpan b) {
   namespace gx3 = protocols::gx3;
-  const auto r = gx3::parse(b);
-  if (r.status != ParseStatus::kComplete) return with(r, {});
-  const auto& m = *r.message;
-  return with(r, json{{"type", "gx3_accel_rate_mag"},
-                      {"accel_mps2", triad(m.accel_g, units::kStandardGravity)},
-                      {"rate_radps", triad(m.rate_radps, 1.0)},
-                      {"mag_uT", triad(m.mag_gauss, units::kGaussToTesla * 1e6)},
-                      {"timer_ticks", m.timer_ticks},
-                      {"timer_s", m.timer_ticks / gx3::kTicksPerSecond}});
+  const auto arm = gx3::parse(b);
+  const auto euler = gx3::parse_euler_angles(b);
+  const auto cont = gx3::parse_continuous_mode_reply(b);
+  return detail::first_complete(
+      {with(arm, arm.message ? gx3_accel_rate_mag_json(*arm.message) : json{}),
+       with(euler, euler.message ? gx3_euler_json(*euler.message) : json{}),
+       with(cont, cont.message ? gx3_continuous_json(*cont.message) : json{})});
 }
 
 std::string time_text(const protocols::nmea::UtcTime& t) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%02d:%02d:%05.2f", t.hour, t.minute, t.second);
+  return buf;
+}
+
+std::string date_text(const protocols::nmea::UtcTime& t) {
+  char buf[16];
+  std::snprintf(buf, sizeof buf, "%04d-%02d-%02d", t.year, t.month, t.day);
   return buf;
 }
 
@@ -91,16 +115,40 @@ json nmea_json(const protocols::nmea::Sentence& s) {
   if (s.type == "RMC") {
     auto r = nmea::decode_rmc(s);
     if (!r) return json{{"type", "error"}, {"error", r.error().detail}};
-    char date[16];
-    std::snprintf(date, sizeof date, "%04d-%02d-%02d", r->time.year, r->time.month, r->time.day);
     j["time_utc"] = time_text(r->time);
-    j["date"] = date;
+    j["date"] = date_text(r->time);
     j["valid"] = r->valid;
     put(j, "lat_deg", r->lat_deg);
     put(j, "lon_deg", r->lon_deg);
     j["sog_mps"] = r->sog_kn ? json(*r->sog_kn * units::kKnotToMps) : json(nullptr);
     put(j, "cog_deg", r->cog_deg);
     j["mode"] = std::string(1, r->mode);
+    return j;
+  }
+  if (s.type == "VTG") {
+    auto v = nmea::decode_vtg(s);
+    if (!v) return json{{"type", "error"}, {"error", v.error().detail}};
+    put(j, "cog_true_deg", v->cog_true_deg);
+    put(j, "cog_mag_deg", v->cog_mag_deg);
+    j["sog_mps"] = v->sog_kn ? json(*v->sog_kn * units::kKnotToMps) : json(nullptr);
+    j["sog_from_kmh_mps"] = v->sog_kmh ? json(*v->sog_kmh / 3.6) : json(nullptr);
+    j["mode"] = v->mode ? json(std::string(1, *v->mode)) : json(nullptr);
+    return j;
+  }
+  if (s.type == "HDT") {
+    auto h = nmea::decode_hdt(s);
+    if (!h) return json{{"type", "error"}, {"error", h.error().detail}};
+    put(j, "heading_deg", h->heading_deg);
+    return j;
+  }
+  if (s.type == "ZDA") {
+    auto z = nmea::decode_zda(s);
+    if (!z) return json{{"type", "error"}, {"error", z.error().detail}};
+    j["time_utc"] = time_text(z->time);
+    j["date"] = date_text(z->time);
+    j["time_unix_s"] = z->time.unix_seconds();
+    put(j, "zone_hours", z->zone_hours);
+    put(j, "zone_minutes", z->zone_minutes);
     return j;
   }
   j["fields"] = s.fields;  // a sentence this decoder does not interpret: its raw fields
@@ -121,12 +169,42 @@ ParseResult<json> parse_nmea(protocols::ByteSpan b) {
 
 }  // namespace
 
+ParseResult<json> detail::first_complete(std::initializer_list<ParseResult<json>> results) {
+  const ParseResult<json>* fewest = nullptr;  // the malformed result skipping the fewest bytes
+  bool need_more = false;
+  for (const auto& r : results) {
+    if (r.status == ParseStatus::kComplete) return r;
+    if (r.status == ParseStatus::kNeedMore) need_more = true;
+    if (r.status == ParseStatus::kMalformed && (!fewest || r.consumed < fewest->consumed)) {
+      fewest = &r;
+    }
+  }
+  if (need_more || !fewest) return ParseResult<json>{};
+  return *fewest;
+}
+
 const std::vector<ProtocolDecoder>& protocol_decoders() {
   static const std::vector<ProtocolDecoder> decoders{
-      {"microstrain-gx3", "MicroStrain 3DM-GX3-25 binary replies (0xCB)", &parse_gx3,
-       std::nullopt},
-      {"nmea0183", "NMEA 0183 sentences (GGA, RMC decoded; others as raw fields; $PNVBSOL)",
+      {"microstrain-gx3",
+       "MicroStrain 3DM-GX3-25 binary replies (0xCB accel/rate/mag, 0xCE Euler, 0xC4 continuous)",
+       &parse_gx3, std::nullopt},
+      {"nmea0183",
+       "NMEA 0183 sentences (GGA, RMC, VTG, HDT, ZDA decoded; others as raw fields; $PNVBSOL)",
        &parse_nmea, static_cast<std::uint8_t>('#')},
+      {"navquest-nq1", "LinkQuest NavQuest DVL $#NQ.RES lines", &detail::parse_navquest_nq1,
+       std::nullopt},
+      {"rdi-pd0", "Teledyne RDI PD0 ensembles (leaders, bottom track)", &detail::parse_rdi_pd0,
+       std::nullopt},
+      {"rdi-pd6", "Teledyne RDI PD6 lines (:SA :TS :xI :xS :xE :xD)", &detail::parse_rdi_pd6,
+       std::nullopt},
+      {"waterlinked-a50", "Water Linked DVL-A50 packets (wrz, wru, wrp, wrx, wrt decoded)",
+       &detail::parse_waterlinked_a50, std::nullopt},
+      {"ebimu", "E2BOX EBIMU-9DOF '*' lines, read by value count", &detail::parse_ebimu,
+       std::nullopt},
+      {"keller-bus", "Keller RS-485 bus requests and answers (F48, F69, F73, F95)",
+       &detail::parse_keller_bus, std::nullopt},
+      {"evologics-usbl", "EvoLogics USBLLONG / USBLANGLES notifications",
+       &detail::parse_evologics_usbl, std::nullopt},
   };
   return decoders;
 }

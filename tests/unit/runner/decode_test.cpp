@@ -3,7 +3,19 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
+#include <numbers>
+
+#include "../protocols/fixtures.hpp"
+#include "nav/protocols/ebimu.hpp"
+#include "nav/protocols/evologics_usbl.hpp"
+#include "nav/protocols/keller_bus.hpp"
 #include "nav/protocols/microstrain_gx3.hpp"
+#include "nav/protocols/navquest_nq1.hpp"
+#include "nav/protocols/nmea0183.hpp"
+#include "nav/protocols/rdi_pd0.hpp"
+#include "nav/protocols/rdi_pd6.hpp"
+#include "nav/protocols/waterlinked_a50.hpp"
 
 namespace nav::bench {
 namespace {
@@ -20,6 +32,24 @@ std::vector<json> decode(const std::string& protocol, const protocols::Bytes& by
 }
 
 protocols::Bytes text(const std::string& s) { return {s.begin(), s.end()}; }
+
+/// Decodes `message` followed by a copy with byte `index` replaced by `bad`: the first comes
+/// out as a message at offset 0, the corrupted copy as (at least) one error record right after.
+void expect_corruption_reported(const std::string& protocol, const protocols::Bytes& message,
+                                std::size_t index, std::uint8_t bad) {
+  protocols::Bytes bytes = message;
+  bytes.insert(bytes.end(), message.begin(), message.end());
+  ASSERT_NE(bytes[message.size() + index], bad);
+  bytes[message.size() + index] = bad;
+  DecodeCounts c;
+  const auto out = decode(protocol, bytes, &c);
+  EXPECT_EQ(c.messages, 1u) << protocol;
+  EXPECT_GE(c.errors, 1u) << protocol;
+  ASSERT_GE(out.size(), 2u) << protocol;
+  EXPECT_NE(out[0]["type"], "error") << protocol;
+  EXPECT_EQ(out[1]["type"], "error") << protocol;
+  EXPECT_EQ(out[1]["offset"], message.size()) << protocol;
+}
 
 TEST(Decode, Gx3PacketsInSiWithOffsetsAndBadBytesReported) {
   protocols::gx3::AccelRateMag m;
@@ -67,6 +97,254 @@ TEST(Decode, NmeaSentencesCommentsAndTruncation) {
   EXPECT_TRUE(out[1]["cog_deg"].is_null());
   EXPECT_EQ(out[2]["type"], "error");
   EXPECT_EQ(out[3]["error"], "truncated message at end of input");
+}
+
+TEST(Decode, Gx3EulerAndContinuousModeReplies) {
+  namespace gx3 = protocols::gx3;
+  const auto euler = gx3::encode(gx3::EulerAngles{0.1F, -0.2F, 1.5F, 125000});
+  const auto cont = gx3::encode(gx3::ContinuousModeReply{gx3::kCmdAccelRateMag, 62500});
+  const auto arm = gx3::encode(gx3::AccelRateMag{});
+  protocols::Bytes bytes = cont;
+  bytes.insert(bytes.end(), euler.begin(), euler.end());
+  bytes.insert(bytes.end(), arm.begin(), arm.end());
+  DecodeCounts c;
+  const auto out = decode("microstrain-gx3", bytes, &c);
+  EXPECT_EQ(c.errors, 0u);
+  ASSERT_EQ(out.size(), 3u);
+  EXPECT_EQ(out[0]["type"], "gx3_continuous_mode");
+  EXPECT_EQ(out[0]["command"], gx3::kCmdAccelRateMag);
+  EXPECT_DOUBLE_EQ(out[0]["timer_s"].get<double>(), 1.0);
+  EXPECT_EQ(out[1]["type"], "gx3_euler_angles");
+  EXPECT_EQ(out[1]["offset"], cont.size());
+  EXPECT_NEAR(out[1]["pitch_rad"].get<double>(), -0.2, 1e-6);
+  EXPECT_DOUBLE_EQ(out[1]["timer_s"].get<double>(), 2.0);
+  EXPECT_EQ(out[2]["type"], "gx3_accel_rate_mag");
+  EXPECT_EQ(out[2]["offset"], cont.size() + euler.size());
+  expect_corruption_reported("microstrain-gx3", euler, 5, 0x55);
+}
+
+TEST(Decode, NmeaVtgHdtZdaDecodedIntoNamedFields) {
+  namespace nmea = protocols::nmea;
+  const std::string vtg = nmea::frame(nmea::to_sentence(nmea::Vtg{54.7, 34.4, 5.5, 10.186, 'A'}));
+  const std::string hdt = nmea::frame(nmea::to_sentence(nmea::Hdt{274.07}, "HE"));
+  nmea::Zda zda;
+  zda.time = nmea::UtcTime{2017, 1, 10, 0, 10, 43.0};
+  zda.zone_hours = -3;
+  zda.zone_minutes = 30;
+  const std::string z = nmea::frame(nmea::to_sentence(zda));
+  const auto out = decode("nmea0183", text(vtg + hdt + z));
+  ASSERT_EQ(out.size(), 3u);
+  EXPECT_EQ(out[0]["type"], "VTG");
+  EXPECT_DOUBLE_EQ(out[0]["cog_true_deg"].get<double>(), 54.7);
+  EXPECT_NEAR(out[0]["sog_mps"].get<double>(), 5.5 * 1852.0 / 3600.0, 1e-12);
+  EXPECT_NEAR(out[0]["sog_from_kmh_mps"].get<double>(), 10.186 / 3.6, 1e-12);
+  EXPECT_EQ(out[0]["mode"], "A");
+  EXPECT_EQ(out[1]["type"], "HDT");
+  EXPECT_EQ(out[1]["talker"], "HE");
+  EXPECT_EQ(out[1]["offset"], vtg.size());
+  EXPECT_DOUBLE_EQ(out[1]["heading_deg"].get<double>(), 274.07);
+  EXPECT_EQ(out[2]["type"], "ZDA");
+  EXPECT_EQ(out[2]["date"], "2017-01-10");
+  EXPECT_EQ(out[2]["zone_hours"], -3);
+  EXPECT_EQ(out[2]["zone_minutes"], 30);
+  EXPECT_NEAR(out[2]["time_unix_s"].get<double>(), 1484007043.0, 1e-3);
+  expect_corruption_reported("nmea0183", text(hdt), 8, '5');  // checksum no longer matches
+}
+
+TEST(Decode, NavquestNq1InSi) {
+  namespace nq1 = protocols::navquest_nq1;
+  nq1::Nq1 m;
+  m.beam_good = {true, true, true, false};
+  m.beam_altitude_m = {10.5, 10.6, 10.4, -1.0};
+  m.velocity_instrument_mmps = {100.0, -200.0, 30.0};
+  m.velocity_instrument_flag = nq1::VelocityFlag::kBottom;
+  m.roll_deg = 1.5;
+  m.temperature_degc = 12.3;
+  const auto line = text(nq1::encode(m));
+  const auto out = decode("navquest-nq1", line);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(out[0]["type"], "nq1");
+  EXPECT_EQ(out[0]["offset"], 0);
+  EXPECT_DOUBLE_EQ(out[0]["velocity_instrument_mps"][1].get<double>(), -0.2);
+  EXPECT_EQ(out[0]["velocity_instrument_source"], "bottom");
+  EXPECT_DOUBLE_EQ(out[0]["vehicle_velocity_mps"][0].get<double>(), -0.1);  // negated
+  EXPECT_DOUBLE_EQ(out[0]["beam_altitude_m"][1].get<double>(), 10.6);
+  EXPECT_DOUBLE_EQ(out[0]["temperature_degC"].get<double>(), 12.3);
+  EXPECT_EQ(out[0]["beam_good"][3], false);
+  expect_corruption_reported("navquest-nq1", line, 12, 'x');
+}
+
+TEST(Decode, RdiPd0EnsembleWithBottomTrack) {
+  namespace pd0 = protocols::rdi_pd0;
+  pd0::Ensemble e;
+  e.fixed_leader.emplace();
+  e.fixed_leader->coord_transform = 0x18;  // earth coordinates
+  e.fixed_leader->beam_angle_deg = 30;
+  e.fixed_leader->bin1_distance_cm = 117;
+  e.variable_leader.emplace();
+  e.variable_leader->ensemble_number = 70000;
+  e.variable_leader->rtc = pd0::RtcTime{2014, 12, 19, 17, 17, 55, 94};
+  e.variable_leader->heading_cdeg = 26067;
+  e.variable_leader->temperature_cdegc = 518;
+  e.variable_leader->pressure_dapa = 1234;
+  e.bottom_track.emplace();
+  e.bottom_track->range_cm = {1423, 1426, 0, 1481};
+  e.bottom_track->velocity_mmps = {-58, pd0::kBadVelocity, 12, -3};
+  const auto bytes = pd0::encode(e);
+  const auto out = decode("rdi-pd0", bytes);
+  ASSERT_EQ(out.size(), 1u);
+  const auto& j = out[0];
+  EXPECT_EQ(j["type"], "pd0_ensemble");
+  EXPECT_EQ(j["offset"], 0);
+  EXPECT_EQ(j["ensemble_number"], 70000);
+  EXPECT_EQ(j["time"], "2014-12-19T17:17:55.94");
+  EXPECT_NEAR(j["time_unix_s"].get<double>(), 1419009475.94, 1e-6);
+  EXPECT_EQ(j["coordinates"], "earth");
+  EXPECT_DOUBLE_EQ(j["bin1_distance_m"].get<double>(), 1.17);
+  EXPECT_DOUBLE_EQ(j["heading_deg"].get<double>(), 260.67);
+  EXPECT_DOUBLE_EQ(j["temperature_degC"].get<double>(), 5.18);
+  EXPECT_DOUBLE_EQ(j["pressure_Pa"].get<double>(), 12340.0);
+  const auto& bt = j["bottom_track"];
+  EXPECT_DOUBLE_EQ(bt["range_m"][0].get<double>(), 14.23);
+  EXPECT_TRUE(bt["range_m"][2].is_null());
+  EXPECT_DOUBLE_EQ(bt["velocity_mps"][0].get<double>(), -0.058);
+  EXPECT_TRUE(bt["velocity_mps"][1].is_null());
+  EXPECT_TRUE(bt["vehicle_velocity_mps"].is_null());  // one of the three is bad
+  expect_corruption_reported("rdi-pd0", bytes, bytes.size() / 2, 0x5A);
+}
+
+TEST(Decode, RdiPd6Lines) {
+  namespace pd6 = protocols::rdi_pd6;
+  const std::string bi = pd6::encode(pd6::InstrumentVelocity{pd6::Track::kBottom,
+                                                             {250, -13, pd6::kBadVelocity, 7},
+                                                             true});
+  const std::string bd =
+      pd6::encode(pd6::Distance{pd6::Track::kBottom, 12.5, -3.25, 0.5, 20.75, 0.2});
+  const std::string sa = pd6::encode(pd6::Attitude{-1.5, 2.25, 180.5});
+  const auto out = decode("rdi-pd6", text(bi + bd + sa));
+  ASSERT_EQ(out.size(), 3u);
+  EXPECT_EQ(out[0]["type"], "pd6_instrument_velocity");
+  EXPECT_EQ(out[0]["track"], "bottom");
+  EXPECT_DOUBLE_EQ(out[0]["velocity_xyz_mps"][0].get<double>(), 0.25);
+  EXPECT_TRUE(out[0]["velocity_xyz_mps"][2].is_null());
+  EXPECT_DOUBLE_EQ(out[0]["error_velocity_mps"].get<double>(), 0.007);
+  EXPECT_EQ(out[1]["type"], "pd6_distance");
+  EXPECT_EQ(out[1]["offset"], bi.size());
+  EXPECT_DOUBLE_EQ(out[1]["range_m"].get<double>(), 20.75);
+  EXPECT_EQ(out[2]["type"], "pd6_attitude");
+  EXPECT_DOUBLE_EQ(out[2]["heading_deg"].get<double>(), 180.5);
+  expect_corruption_reported("rdi-pd6", text(bd), 6, 'x');
+}
+
+TEST(Decode, WaterlinkedA50Reports) {
+  namespace a50 = protocols::waterlinked_a50;
+  a50::VelocityReport v;
+  v.vx_mps = 0.123;
+  v.vy_mps = -0.045;
+  v.vz_mps = 0.002;
+  v.valid = true;
+  v.altitude_m = 3.25;
+  v.time_of_validity_us = 1600000000123456;
+  v.time_since_last_ms = 100.0;
+  const auto wrz = text(a50::frame(a50::to_packet(v)));
+  a50::TransducerReport t;
+  t.id = 2;
+  t.distance_m = 3.5;
+  t.rssi_dbm = -40.0;
+  const auto wru = text(a50::frame(a50::to_packet(t)));
+  protocols::Bytes bytes = wrz;
+  bytes.insert(bytes.end(), wru.begin(), wru.end());
+  const auto out = decode("waterlinked-a50", bytes);
+  ASSERT_EQ(out.size(), 2u);
+  EXPECT_EQ(out[0]["type"], "a50_velocity");
+  EXPECT_DOUBLE_EQ(out[0]["velocity_mps"][1].get<double>(), -0.045);
+  EXPECT_EQ(out[0]["valid"], true);
+  EXPECT_DOUBLE_EQ(out[0]["altitude_m"].get<double>(), 3.25);
+  EXPECT_NEAR(out[0]["time_of_validity_unix_s"].get<double>(), 1600000000.123456, 1e-6);
+  EXPECT_DOUBLE_EQ(out[0]["time_since_last_s"].get<double>(), 0.1);
+  EXPECT_EQ(out[1]["type"], "a50_transducer");
+  EXPECT_EQ(out[1]["offset"], wrz.size());
+  EXPECT_EQ(out[1]["id"], 2);
+  EXPECT_DOUBLE_EQ(out[1]["distance_m"].get<double>(), 3.5);
+  EXPECT_DOUBLE_EQ(out[1]["rssi_dBm"].get<double>(), -40.0);
+  expect_corruption_reported("waterlinked-a50", wrz, 6, '9');  // CRC no longer matches
+}
+
+TEST(Decode, EbimuLinesByValueCount) {
+  namespace ebimu = protocols::ebimu;
+  ebimu::Sample s;
+  s.euler_deg = std::array<double, 3>{-12.34, 89.99, -180.0};
+  s.gyro_dps = std::array<double, 3>{90.0, 0.0, -45.0};
+  s.accel_g = std::array<double, 3>{0.0, 0.0, 1.0};
+  const std::string first = ebimu::encode(s);
+  const auto line = text(first);
+  const auto out = decode("ebimu", text(first + "*0.0012,-0.0034,0.7071,0.7071\r\n"));
+  ASSERT_EQ(out.size(), 2u);
+  EXPECT_EQ(out[0]["type"], "ebimu");
+  EXPECT_DOUBLE_EQ(out[0]["roll_deg"].get<double>(), -12.34);
+  EXPECT_NEAR(out[0]["rate_radps"][0].get<double>(), std::numbers::pi / 2.0, 1e-12);
+  EXPECT_NEAR(out[0]["accel_mps2"][2].get<double>(), 9.80665, 1e-12);
+  EXPECT_EQ(out[1]["offset"], line.size());
+  EXPECT_DOUBLE_EQ(out[1]["quat_wxyz"][0].get<double>(), 0.7071);  // w, sent last
+  EXPECT_DOUBLE_EQ(out[1]["quat_wxyz"][3].get<double>(), 0.0012);  // z, sent first
+  expect_corruption_reported("ebimu", line, 3, 'x');
+}
+
+TEST(Decode, KellerBusRequestsAndAnswers) {
+  // Worked example of the codec tests: read P1 of device 1, answer 1.005182 bar.
+  const protocols::Bytes request = {0x01, 0x49, 0x01, 0x50, 0xD6};
+  const protocols::Bytes answer = {0x01, 0x49, 0x3F, 0x80, 0xA9, 0xCB, 0x00, 0x4C, 0xBF};
+  protocols::Bytes bytes = request;
+  bytes.insert(bytes.end(), answer.begin(), answer.end());
+  DecodeCounts c;
+  const auto out = decode("keller-bus", bytes, &c);
+  EXPECT_EQ(c.errors, 0u);
+  ASSERT_EQ(out.size(), 2u);
+  EXPECT_EQ(out[0]["type"], "keller_request");
+  EXPECT_EQ(out[0]["function_name"], "read_channel");
+  EXPECT_EQ(out[0]["channel_name"], "P1");
+  EXPECT_EQ(out[0]["unit"], "bar");
+  EXPECT_EQ(out[1]["type"], "keller_channel_value");
+  EXPECT_EQ(out[1]["offset"], 5);
+  EXPECT_EQ(out[1]["address"], 1);
+  EXPECT_NEAR(out[1]["value"].get<double>(), 1.005182, 1e-6);
+  expect_corruption_reported("keller-bus", answer, 4, 0x00);
+}
+
+TEST(Decode, EvologicsUsblNotifications) {
+  // The real USBLLONG sample of the codec tests, in data mode.
+  const std::string payload =
+      "USBLLONG,10446.991981,10446.534643,3,-0.0604,-1.0888,-0.5851,-0.4233,-1.0020,-0.5901,"
+      "0.0063,0.0269,-0.3295,825,-36,77,1.2375";
+  const std::string framed = "+++AT:124:" + payload + "\r\n";
+  const auto line = text(framed);
+  const auto out = decode("evologics-usbl", text(framed + payload + "\r\n"));
+  ASSERT_EQ(out.size(), 2u);
+  EXPECT_EQ(out[0]["type"], "usbllong");
+  EXPECT_EQ(out[0]["framing"], "data");
+  EXPECT_EQ(out[0]["remote_address"], 3);
+  EXPECT_DOUBLE_EQ(out[0]["xyz_m"][1].get<double>(), -1.0888);
+  EXPECT_DOUBLE_EQ(out[0]["yaw_rad"].get<double>(), -0.3295);
+  EXPECT_DOUBLE_EQ(out[0]["propagation_time_s"].get<double>(), 825e-6);
+  EXPECT_DOUBLE_EQ(out[0]["accuracy_m"].get<double>(), 1.2375);
+  EXPECT_EQ(out[1]["framing"], "command");
+  EXPECT_EQ(out[1]["offset"], line.size());
+  expect_corruption_reported("evologics-usbl", line, 30, 'x');
+}
+
+/// The real PD0 capture of fixtures-external decodes whole.
+class DecodeCapture : public protocols::test_support::ExternalFixtureTest {};
+
+TEST_F(DecodeCapture, RealRdiPd0CaptureDecodesEveryEnsemble) {
+  const auto bytes = protocols::test_support::read_bytes(dir() / "rdi-pd0" / "adcp_auv_51.pd0");
+  ASSERT_FALSE(bytes.empty());
+  DecodeCounts c;
+  const auto out = decode("rdi-pd0", bytes, &c);
+  EXPECT_EQ(c.messages, 51u);
+  EXPECT_EQ(c.errors, 0u);
+  ASSERT_EQ(out.size(), 51u);
+  EXPECT_EQ(out[0]["ensemble_number"], 14);
+  EXPECT_EQ(out[0]["bottom_track"]["range_m"].size(), 4u);
 }
 
 TEST(Decode, BytesOfOnePortFromACapture) {

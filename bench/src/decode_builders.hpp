@@ -1,0 +1,57 @@
+// SPDX-License-Identifier: MIT
+// Private to nav_bench: the per-protocol parsers behind protocol_decoders() that turn one codec
+// message into JSON ("type" first, then fields named with their SI unit suffix; decode_stream
+// adds "offset"). decode_dvl.cpp holds the DVLs, decode_serial.cpp the other serial devices.
+#pragma once
+
+#include <initializer_list>
+#include <optional>
+#include <utility>
+
+#include <nlohmann/json.hpp>
+
+#include "nav/protocols/parse.hpp"
+
+namespace nav::bench::detail {
+
+using json = nlohmann::ordered_json;
+
+/// Carries a parser's status and counts over to a JSON result (j is used when complete).
+template <typename M>
+protocols::ParseResult<json> with(const protocols::ParseResult<M>& r, json j) {
+  protocols::ParseResult<json> out{r.status, r.consumed, std::nullopt, r.error};
+  if (r.status == protocols::ParseStatus::kComplete) out.message = std::move(j);
+  return out;
+}
+
+/// Combines the results of several parsers run at the same byte: the first complete one;
+/// else need-more if any needs more; else the malformed result that skips the fewest bytes
+/// (so no parser hunting for its own sync byte jumps over another's message).
+protocols::ParseResult<json> first_complete(
+    std::initializer_list<protocols::ParseResult<json>> results);
+
+/// A JSON number, or null when absent.
+template <typename T>
+json or_null(const std::optional<T>& v) {
+  return v ? json(*v) : json(nullptr);
+}
+
+// decode_dvl.cpp
+/// LinkQuest NavQuest NQ1 lines.
+protocols::ParseResult<json> parse_navquest_nq1(protocols::ByteSpan b);
+/// Teledyne RDI PD0 ensembles: leaders and bottom track.
+protocols::ParseResult<json> parse_rdi_pd0(protocols::ByteSpan b);
+/// Teledyne RDI PD6 lines.
+protocols::ParseResult<json> parse_rdi_pd6(protocols::ByteSpan b);
+/// Water Linked DVL-A50 packets (reports decoded, other packets as raw options).
+protocols::ParseResult<json> parse_waterlinked_a50(protocols::ByteSpan b);
+
+// decode_serial.cpp
+/// E2BOX EBIMU lines, interpreted by their value count.
+protocols::ParseResult<json> parse_ebimu(protocols::ByteSpan b);
+/// Keller RS-485 bus: master requests and device answers.
+protocols::ParseResult<json> parse_keller_bus(protocols::ByteSpan b);
+/// EvoLogics USBLLONG / USBLANGLES notifications.
+protocols::ParseResult<json> parse_evologics_usbl(protocols::ByteSpan b);
+
+}  // namespace nav::bench::detail
