@@ -153,6 +153,11 @@ struct GpsConfig {
   double utc_start_unix_s = 1780315200.0;  ///< UTC at scenario time 0 (2026-06-01T12:00:00Z)
   double datum_lat_rad = 0.0, datum_lon_rad = 0.0, datum_alt_m = 0.0;  ///< NED origin
   std::string talker = "GP";
+  bool vtg = false;                    ///< also emit VTG each epoch
+  bool hdt = false;                    ///< also emit HDT (true heading) each epoch
+  bool zda = false;                    ///< also emit ZDA each epoch
+  Duration reacquisition{std::chrono::seconds(30)};  ///< no fix this long after surfacing
+  double heading_std_rad = 0.0;        ///< HDT white noise [rad]
 };
 
 /// Generates every GGA+RMC pair of [0, duration) (one WireMessage per epoch, both sentences).

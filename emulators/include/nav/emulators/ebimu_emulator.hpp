@@ -1,0 +1,28 @@
+// SPDX-License-Identifier: MIT
+// E2BOX EBIMU-9DOF AHRS emulator: ASCII lines carrying the device's own attitude estimate
+// (Euler angles or quaternion), optionally gyro and acceleration.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "nav/emulators/device.hpp"
+
+namespace nav::emulators {
+
+struct EbimuConfig {
+  double rate_hz = 100.0;          ///< output rate [Hz]
+  Duration latency{0};             ///< time of validity -> first byte [ns]
+  bool quaternion = false;         ///< quaternion output instead of Euler angles
+  bool gyro = false;               ///< append angular rate
+  bool accel = false;              ///< append specific force
+  double attitude_std_rad = 0.0;   ///< white noise on each attitude angle [rad]
+  double attitude_bias_rad = 0.0;  ///< constant heading bias (e.g. magnetic disturbance) [rad]
+  TriadErrors gyro_errors;         ///< [rad/s]
+  TriadErrors accel_errors;        ///< [m/s^2]
+};
+
+std::vector<WireMessage> generate_ebimu(const EbimuConfig& cfg, const TruthTrajectory& truth,
+                                        Duration duration, std::uint64_t seed);
+
+}  // namespace nav::emulators
