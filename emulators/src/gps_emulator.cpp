@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
-// NMEA 0183 GPS receiver emulator: GGA then RMC each epoch, in one WireMessage.
+// NMEA 0183 GPS receiver emulator: GGA then RMC each epoch, then VTG, HDT, ZDA when enabled
+// (in this order), all in one WireMessage.
 //
 // Epoch k (k = 0, 1, ... while t_k < duration):
 //   t_k       = k / rate_hz                                     time of validity [s]
@@ -11,7 +12,25 @@
 //   UTC       = utc_start_unix_s + t_k
 //   t_send    = t_k + latency; no trigger tag (the DUT does not trigger on GPS)
 // With n1..n5 ~ N(0, 1) drawn in this order every epoch (also without a fix, so that the
-// noise of later epochs does not depend on where the vehicle dived).
+// noise of later epochs does not depend on where the vehicle dived). The options add draws
+// only after these five and only when enabled: with all options off the sequence (and every
+// byte) is the one of the GGA/RMC-only emulator; vtg and zda draw nothing, so they leave the
+// GGA/RMC bytes unchanged; hdt draws n6 (heading noise) after n5 every epoch, so switching it
+// on changes the GGA/RMC noise from the second epoch on (one engine per device).
+//
+// Options:
+//   vtg: VTG (NMEA >= 3.01 form) with the RMC's course and speed (same noisy velocity): course
+//        true as in RMC, magnetic course empty, SOG in knots and km/h, mode A; without a fix
+//        all four values empty and mode N.
+//   hdt: HDT true heading = yaw(q_nb(t_k)) + heading_std_rad n6 in [0, 360) [deg] (a
+//        dual-antenna receiver); empty heading field without a fix.
+//   zda: ZDA with the receiver's UTC date and time (also without a fix) and zone 00:00.
+//   reacquisition: once the vehicle has been deeper than max_depth_for_fix_m, the fix returns
+//        only `reacquisition` after it surfaces: fix = shallow && t_k >= t_surface +
+//        reacquisition, where t_surface is the last upward crossing of max_depth_for_fix_m
+//        (located by bisection on truth to 1 us between the last deep and the first shallow
+//        epoch). The vehicle is not "surfacing" at t = 0: a run starting at the surface has a
+//        fix from the first epoch. During re-acquisition the sentences are those of no fix.
 // Below SOG 0.05 m/s a course is meaningless: like many receivers, the emulator repeats the
 // last course it computed (the field is empty until a first course exists).
 // Without a fix the receiver behaves like a real one: GGA quality 0, 0 satellites and empty
@@ -21,6 +40,7 @@
 #include <string>
 
 #include "nav/common/ensure.hpp"
+#include "nav/common/frames.hpp"
 #include "nav/common/geodesy.hpp"
 #include "nav/common/units.hpp"
 #include "nav/emulators/device.hpp"
@@ -32,12 +52,28 @@ namespace {
 constexpr double kMinSpeedForCourse_mps = 0.05;  ///< below this, COG repeats [m/s]
 constexpr int kSatellitesUsed = 10;              ///< GGA satellites with a fix [-]
 constexpr double kHdop = 0.9;                    ///< GGA HDOP with a fix [-]
+constexpr Duration kSurfaceTolerance{1000};      ///< bisection stop for t_surface [ns]
 
 /// Course over ground in [0, 360) as it will print with two decimals [deg].
 double course_deg(double v_north, double v_east) {
   double cog = units::rad_to_deg(std::atan2(v_east, v_north));
   if (cog < 0.0) cog += 360.0;
   return cog >= 359.995 ? 0.0 : cog;  // "360.00" is not a valid course
+}
+
+/// Time the vehicle rises through max_depth between t_deep (deeper) and t_shallow (not
+/// deeper): the first shallow time found by bisection, to kSurfaceTolerance [ns].
+Duration surfacing_time(const TruthTrajectory& truth, double max_depth, Duration t_deep,
+                        Duration t_shallow) {
+  while (t_shallow - t_deep > kSurfaceTolerance) {
+    const Duration mid = t_deep + (t_shallow - t_deep) / 2;
+    if (truth.at(mid).p_n.z() > max_depth) {
+      t_deep = mid;
+    } else {
+      t_shallow = mid;
+    }
+  }
+  return t_shallow;
 }
 
 }  // namespace
@@ -51,11 +87,16 @@ std::vector<WireMessage> generate_gps(const GpsConfig& cfg, const TruthTrajector
              "GPS noise standard deviations must be >= 0");
   NAV_ENSURE(std::isfinite(cfg.max_depth_for_fix_m), "GPS max_depth_for_fix_m must be finite");
   NAV_ENSURE(std::isfinite(cfg.utc_start_unix_s), "GPS utc_start_unix_s must be finite");
+  NAV_ENSURE(cfg.reacquisition.count() >= 0, "GPS reacquisition must be >= 0");
+  NAV_ENSURE(std::isfinite(cfg.heading_std_rad) && cfg.heading_std_rad >= 0.0,
+             "GPS heading_std_rad must be finite and >= 0");
 
   const geodesy::LocalTangentPlane ltp(
       geodesy::Geodetic{cfg.datum_lat_rad, cfg.datum_lon_rad, cfg.datum_alt_m});
   std::mt19937_64 rng(seed);
   std::optional<double> last_cog_deg;
+  std::optional<Duration> last_deep_t;    ///< epoch time of the previous epoch, if it was deep
+  std::optional<Duration> surfaced_at;    ///< last surfacing after a dive
 
   std::vector<WireMessage> out;
   for (std::int64_t k = 0;; ++k) {
@@ -69,8 +110,14 @@ std::vector<WireMessage> generate_gps(const GpsConfig& cfg, const TruthTrajector
     noise_p_n.z() = cfg.vertical_std_m * standard_normal(rng);
     const double noise_vn = cfg.velocity_std_mps * standard_normal(rng);
     const double noise_ve = cfg.velocity_std_mps * standard_normal(rng);
+    const double noise_heading = cfg.hdt ? cfg.heading_std_rad * standard_normal(rng) : 0.0;
 
-    const bool fix = s.p_n.z() <= cfg.max_depth_for_fix_m;
+    const bool shallow = s.p_n.z() <= cfg.max_depth_for_fix_m;
+    if (shallow && last_deep_t) {
+      surfaced_at = surfacing_time(truth, cfg.max_depth_for_fix_m, *last_deep_t, t_valid);
+    }
+    last_deep_t = shallow ? std::nullopt : std::optional<Duration>(t_valid);
+    const bool fix = shallow && (!surfaced_at || t_valid - *surfaced_at >= cfg.reacquisition);
     const protocols::nmea::UtcTime utc =
         protocols::nmea::UtcTime::from_unix_seconds(cfg.utc_start_unix_s + to_seconds(t_valid));
 
@@ -106,8 +153,30 @@ std::vector<WireMessage> generate_gps(const GpsConfig& cfg, const TruthTrajector
       rmc.mode = 'N';
     }
 
-    const std::string text = protocols::nmea::frame(protocols::nmea::to_sentence(gga, cfg.talker)) +
-                             protocols::nmea::frame(protocols::nmea::to_sentence(rmc, cfg.talker));
+    std::string text = protocols::nmea::frame(protocols::nmea::to_sentence(gga, cfg.talker)) +
+                       protocols::nmea::frame(protocols::nmea::to_sentence(rmc, cfg.talker));
+    if (cfg.vtg) {
+      protocols::nmea::Vtg vtg;
+      if (fix) {
+        vtg.cog_true_deg = rmc.cog_deg;
+        vtg.sog_kn = rmc.sog_kn;
+        vtg.sog_kmh = *rmc.sog_kn * units::kKnotToMps * 3.6;
+      }
+      vtg.mode = rmc.mode;
+      text += protocols::nmea::frame(protocols::nmea::to_sentence(vtg, cfg.talker));
+    }
+    if (cfg.hdt) {
+      protocols::nmea::Hdt hdt;
+      if (fix) hdt.heading_deg = units::rad_to_deg(euler_from_quat(s.q_nb).yaw + noise_heading);
+      text += protocols::nmea::frame(protocols::nmea::to_sentence(hdt, cfg.talker));
+    }
+    if (cfg.zda) {
+      protocols::nmea::Zda zda;
+      zda.time = utc;
+      zda.zone_hours = 0;
+      zda.zone_minutes = 0;
+      text += protocols::nmea::frame(protocols::nmea::to_sentence(zda, cfg.talker));
+    }
     WireMessage msg;
     msg.t_valid = t_valid;
     msg.t_send = t_valid + cfg.latency;

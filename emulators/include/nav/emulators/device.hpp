@@ -156,7 +156,7 @@ struct GpsConfig {
   bool vtg = false;                    ///< also emit VTG each epoch
   bool hdt = false;                    ///< also emit HDT (true heading) each epoch
   bool zda = false;                    ///< also emit ZDA each epoch
-  Duration reacquisition{std::chrono::seconds(30)};  ///< no fix this long after surfacing
+  Duration reacquisition{0};           ///< no fix this long after surfacing [ns]
   double heading_std_rad = 0.0;        ///< HDT white noise [rad]
 };
 

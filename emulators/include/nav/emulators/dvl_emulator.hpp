@@ -26,6 +26,8 @@ struct DvlConfig {
   double beam_dropout_probability = 0.0;  ///< chance a beam is invalid on a ping [-]
   double sound_speed_mps = 1500.0;      ///< reported speed of sound [m/s]
   double utc_start_unix_s = 1780315200.0;  ///< clock at scenario time 0 (PD0/A50 time) [s]
+  double temperature_degc = 10.0;       ///< reported water temperature (PD0/PD6/NQ1) [°C]
+  double salinity_ppt = 35.0;           ///< reported salinity (PD0/PD6/NQ1) [ppt]
 };
 
 /// Every ping of [0, duration): velocity of the vehicle w.r.t. the seabed in the

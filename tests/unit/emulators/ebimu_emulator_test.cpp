@@ -1,0 +1,169 @@
+// SPDX-License-Identifier: MIT
+// EBIMU emulator: the lines it emits, decoded with the EBIMU codec, against truth.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "nav/common/frames.hpp"
+#include "nav/common/units.hpp"
+#include "nav/emulators/ebimu_emulator.hpp"
+#include "nav/protocols/ebimu.hpp"
+
+namespace nav::emulators {
+namespace {
+
+using std::chrono::milliseconds;
+using std::chrono::seconds;
+namespace ebimu = protocols::ebimu;
+
+/// Turning, rolling and pitching: yaw sweeps through +-180 deg.
+TruthTrajectory manoeuvring_truth() {
+  TrajectorySpec spec;
+  spec.start_yaw_rad = 2.8;
+  spec.max_accel_mps2 = 0.3;
+  Segment s1;
+  s1.length_m = 10.0;
+  s1.speed_mps = 1.2;
+  Segment s2;
+  s2.kind = Segment::Kind::kArc;
+  s2.radius_m = 5.0;
+  s2.angle_rad = 4.0;
+  s2.speed_mps = 1.2;
+  spec.segments = {s1, s2};
+  spec.motion.roll_amplitude_rad = 0.2;
+  spec.motion.pitch_amplitude_rad = 0.1;
+  spec.motion.period_s = 6.0;
+  return *TruthTrajectory::build(spec);
+}
+
+ebimu::Sample decode(const WireMessage& msg, const EbimuConfig& cfg) {
+  const ebimu::OutputConfig oc{
+      cfg.quaternion ? ebimu::Orientation::kQuaternion : ebimu::Orientation::kEuler, cfg.gyro,
+      cfg.accel};
+  const auto r = ebimu::parse_sample(protocols::ByteSpan(msg.bytes), oc);
+  EXPECT_EQ(r.status, protocols::ParseStatus::kComplete) << r.error;
+  EXPECT_EQ(r.consumed, msg.bytes.size());
+  return r.message.value_or(ebimu::Sample{});
+}
+
+/// Angle difference a - b wrapped to (-180, 180] [deg].
+double diff_deg(double a, double b) { return std::remainder(a - b, 360.0); }
+
+TEST(EbimuEmulator, ZeroNoiseEulerDecodesToTruthWithinLineResolution) {
+  const TruthTrajectory truth = manoeuvring_truth();
+  EbimuConfig cfg;
+  cfg.gyro = true;
+  cfg.accel = true;
+  cfg.latency = milliseconds(3);
+  const auto msgs = generate_ebimu(cfg, truth, seconds(30), 1);
+  ASSERT_EQ(msgs.size(), 3000u);
+  for (std::size_t k = 0; k < msgs.size(); ++k) {
+    const WireMessage& msg = msgs[k];
+    ASSERT_EQ(msg.t_valid, milliseconds(10) * static_cast<std::int64_t>(k));
+    ASSERT_EQ(msg.t_send, msg.t_valid + milliseconds(3));
+    EXPECT_FALSE(msg.trigger_tag.has_value());
+    const ebimu::Sample m = decode(msg, cfg);
+    ASSERT_TRUE(m.euler_deg && m.gyro_dps && m.accel_g && !m.quat_wxyz);
+    const TruthSample s = truth.at(msg.t_valid);
+    const Euler e = euler_from_quat(s.q_nb);
+    // 2 decimals of a degree: rounding at most 0.005 deg (+ float slack).
+    const double tol = 0.005 + 1e-9;
+    ASSERT_NEAR(diff_deg((*m.euler_deg)[0], units::rad_to_deg(e.roll)), 0.0, tol) << k;
+    ASSERT_NEAR((*m.euler_deg)[1], units::rad_to_deg(e.pitch), tol) << k;
+    ASSERT_NEAR(diff_deg((*m.euler_deg)[2], units::rad_to_deg(e.yaw)), 0.0, tol) << k;
+    ASSERT_GT((*m.euler_deg)[2], -180.0);
+    ASSERT_LE((*m.euler_deg)[2], 180.0);
+    for (int i = 0; i < 3; ++i) {
+      ASSERT_NEAR((*m.gyro_dps)[i], units::rad_to_deg(s.omega_b[i]), tol) << k;
+      ASSERT_NEAR((*m.accel_g)[i], s.f_b[i] / units::kStandardGravity, 0.0005 + 1e-9) << k;
+    }
+  }
+}
+
+TEST(EbimuEmulator, ZeroNoiseQuaternionDecodesToTruthWithinLineResolution) {
+  const TruthTrajectory truth = manoeuvring_truth();
+  EbimuConfig cfg;
+  cfg.quaternion = true;
+  cfg.rate_hz = 50.0;
+  const auto msgs = generate_ebimu(cfg, truth, seconds(30), 1);
+  ASSERT_EQ(msgs.size(), 1500u);
+  double worst = 0.0;
+  for (const WireMessage& msg : msgs) {
+    const ebimu::Sample m = decode(msg, cfg);
+    ASSERT_TRUE(m.quat_wxyz && !m.euler_deg && !m.gyro_dps && !m.accel_g);
+    const auto& q = *m.quat_wxyz;
+    EXPECT_GE(q[0], 0.0);
+    const Quat q_nb(q[0], q[1], q[2], q[3]);
+    // 4 decimals per component: |dq| <= 1e-4, angle <= 2 |dq| (plus normalisation).
+    worst = std::max(worst, attitude_error_angle(q_nb.normalized(), truth.at(msg.t_valid).q_nb));
+  }
+  EXPECT_LT(worst, 2.5e-4);
+}
+
+TEST(EbimuEmulator, NoiseAndBiasHaveTheConfiguredStatistics) {
+  const TruthTrajectory truth = manoeuvring_truth();
+  EbimuConfig cfg;
+  cfg.gyro = true;
+  cfg.attitude_std_rad = 0.01;
+  cfg.attitude_bias_rad = 0.05;
+  cfg.gyro_errors.white_std = 0.02;
+  cfg.gyro_errors.bias = 0.001;
+  const auto msgs = generate_ebimu(cfg, truth, seconds(80), device_seed(42, "ebimu"));
+  ASSERT_EQ(msgs.size(), 8000u);
+  const double n = static_cast<double>(msgs.size());
+  Vec3 sum = Vec3::Zero(), sum2 = Vec3::Zero(), gsum = Vec3::Zero(), gsum2 = Vec3::Zero();
+  for (const WireMessage& msg : msgs) {
+    const ebimu::Sample m = decode(msg, cfg);
+    const TruthSample s = truth.at(msg.t_valid);
+    const Euler e = euler_from_quat(s.q_nb);
+    const Vec3 err{units::deg_to_rad(diff_deg((*m.euler_deg)[0], units::rad_to_deg(e.roll))),
+                   units::deg_to_rad((*m.euler_deg)[1]) - e.pitch,
+                   units::deg_to_rad(diff_deg((*m.euler_deg)[2], units::rad_to_deg(e.yaw)))};
+    sum += err;
+    sum2 += err.cwiseAbs2();
+    const Vec3 gerr = Vec3{(*m.gyro_dps)[0], (*m.gyro_dps)[1], (*m.gyro_dps)[2]} *
+                          units::kDegToRad - s.omega_b;
+    gsum += gerr;
+    gsum2 += gerr.cwiseAbs2();
+  }
+  const Vec3 mean = sum / n, std = (sum2 / n - mean.cwiseAbs2()).cwiseSqrt();
+  const Vec3 gmean = gsum / n, gstd = (gsum2 / n - gmean.cwiseAbs2()).cwiseSqrt();
+  const Vec3 bias{0.0, 0.0, 0.05};
+  for (int i = 0; i < 3; ++i) {
+    // Means within 5 standard errors; stds within 5 % (6.3 standard errors at N = 8000).
+    // Rounding (0.005 deg = 8.7e-5 rad, 0.005 deg/s) adds < 0.1 % to the variances.
+    EXPECT_NEAR(mean[i], bias[i], 5.0 * 0.01 / std::sqrt(n)) << "axis " << i;
+    EXPECT_NEAR(std[i], 0.01, 0.05 * 0.01) << "axis " << i;
+    EXPECT_NEAR(gmean[i], 0.001, 5.0 * 0.02 / std::sqrt(n)) << "axis " << i;
+    EXPECT_NEAR(gstd[i], 0.02, 0.05 * 0.02) << "axis " << i;
+  }
+}
+
+TEST(EbimuEmulator, SameSeedSameBytesAndOutputsDoNotShiftDraws) {
+  const TruthTrajectory truth = manoeuvring_truth();
+  EbimuConfig cfg;
+  cfg.attitude_std_rad = 0.02;
+  const auto a = generate_ebimu(cfg, truth, seconds(5), device_seed(7, "ebimu"));
+  const auto b = generate_ebimu(cfg, truth, seconds(5), device_seed(7, "ebimu"));
+  const auto c = generate_ebimu(cfg, truth, seconds(5), device_seed(7, "ebimu2"));
+  EbimuConfig with_rates = cfg;
+  with_rates.gyro = true;
+  with_rates.accel = true;
+  with_rates.gyro_errors.white_std = 0.1;
+  with_rates.accel_errors.bias_walk_std = 0.01;
+  const auto d = generate_ebimu(with_rates, truth, seconds(5), device_seed(7, "ebimu"));
+  ASSERT_EQ(a.size(), 500u);
+  ASSERT_EQ(d.size(), 500u);
+  int differ = 0;
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    EXPECT_EQ(a[k].bytes, b[k].bytes);
+    differ += a[k].bytes != c[k].bytes;
+    // Enabling gyro/accel output and their noise leaves the attitude values unchanged.
+    EXPECT_EQ(*decode(a[k], cfg).euler_deg, *decode(d[k], with_rates).euler_deg) << k;
+  }
+  EXPECT_GE(differ, 495);
+}
+
+}  // namespace
+}  // namespace nav::emulators
