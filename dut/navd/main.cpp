@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: MIT
-// navd: the reference DUT of navbench. Reads a MicroStrain 3DM-GX3-25 (0xCB packets) and an
-// NMEA 0183 GPS (GGA/RMC) from serial ports, estimates, and writes one $PNVBSOL solution per
-// AHRS packet to an output serial port (docs/dut-contract.md).
+// navd: the reference DUT of navbench. Reads a MicroStrain 3DM-GX3-25 (0xCB packets), an
+// NMEA 0183 GPS (GGA/RMC; VTG/HDT/ZDA counted) and any number of extra aiding inputs
+// (--input: DVLs, USBL, EBIMU, NMEA; decoded and counted, not yet fused) from serial ports,
+// estimates, and writes one $PNVBSOL solution per AHRS packet to an output serial port
+// (docs/dut-contract.md).
 //
 // Exit codes: 0 SIGTERM/SIGINT, output hang-up, or every input at EOF/hang-up;
 //             2 bad usage or config; 3 a port cannot be opened.
@@ -13,6 +15,8 @@
 #include <exception>
 #include <optional>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
@@ -27,9 +31,11 @@ constexpr int kExitPort = 3;
 
 constexpr const char* kDescription =
     "navd - reference DUT of navbench. Reads a MicroStrain 3DM-GX3-25 AHRS (0xCB packets) and "
-    "an optional NMEA 0183 GPS (GGA, RMC) from serial ports (ttys or pty slaves, raw 8N1), "
-    "estimates attitude (complementary filter) and position/velocity (Kalman filter anchored "
-    "at the first GPS fix), and writes one $PNVBSOL solution per AHRS packet.";
+    "an optional NMEA 0183 GPS (GGA, RMC; VTG, HDT, ZDA counted) from serial ports (ttys or "
+    "pty slaves, raw 8N1), estimates attitude (complementary filter) and position/velocity "
+    "(Kalman filter anchored at the first GPS fix), and writes one $PNVBSOL solution per AHRS "
+    "packet. Extra aiding inputs (--input: DVL, USBL, EBIMU, NMEA) are decoded, counted and "
+    "kept, not yet fused.";
 
 std::string footer() {
   return "Output format: for every AHRS 0xCB packet navd writes exactly one line "
@@ -42,9 +48,19 @@ std::string footer() {
          "after it, DEGRADED if the estimate is not finite; hh is the XOR of the characters "
          "between '$' and '*' in two upper-case hex digits. Writes never block: up to 64 KiB "
          "of solutions wait for a slow reader, then the oldest unsent ones are dropped.\n\n"
+         "Extra inputs: --input NAME=PROTOCOL:PATH[@BAUD], repeatable. NAME is the port's "
+         "role in the summary (1-32 of a-z 0-9 _ -, unique, not ahrs/gps/output); PROTOCOL is "
+         "nq1 (NavQuest NQ1 lines), pd0 (RDI PD0 ensembles), pd6 (RDI PD6 lines), a50 (Water "
+         "Linked A50 packets), ebimu (EBIMU lines), usbl (EvoLogics USBLLONG/USBLANGLES) or "
+         "nmea (NMEA 0183); BAUD defaults to 9600 for nmea and 115200 otherwise. Example: "
+         "--input dvl=pd0:/dev/pts/5@115200. Every input has its own decoder; its messages are "
+         "counted by type, malformed bytes are dropped and counted by reason (checksum, "
+         "framing, sync_bytes, overflow_bytes, fields), and the estimate does not use them yet. "
+         "All inputs are read in the same loop, the AHRS first, and every aiding message is "
+         "handled before the AHRS packets of the same wake-up.\n\n"
          "Exit codes: 0 on SIGTERM/SIGINT, output hang-up, or when every input reached "
          "EOF/hang-up; 2 bad usage or config; 3 a port cannot be opened. A one-line summary "
-         "goes to stderr on exit.\n\n"
+         "(every port's counters) goes to stderr on exit.\n\n"
          "Config keys (--config, a YAML map key: value, SI units):\n" +
          nav::dut::config_keys_help();
 }
@@ -72,11 +88,18 @@ int run(int argc, char** argv) {
       ->capture_default_str()
       ->check(CLI::IsMember(bauds));
   app.add_option("--gps", opt.gps_path,
-                 "tty of the NMEA 0183 GPS (GGA: position, RMC: velocity); without it the "
-                 "solution stays ALIGNING with empty position fields");
+                 "tty of the NMEA 0183 GPS (GGA: position, RMC: velocity; VTG, HDT, ZDA counted, "
+                 "not used); without it the solution stays ALIGNING with empty position fields");
   app.add_option("--gps-baud", opt.gps_baud, "GPS line rate [bit/s]")
       ->capture_default_str()
       ->check(CLI::IsMember(bauds));
+  std::vector<std::string> input_specs;
+  app.add_option("--input", input_specs,
+                 "extra aiding input NAME=PROTOCOL:PATH[@BAUD], repeatable; PROTOCOL one of " +
+                     nav::dut::protocol_names() +
+                     " (decoded and counted, not fused; see below)")
+      ->take_all()
+      ->allow_extra_args(false);
   app.add_option("--output", opt.output_path, "tty the $PNVBSOL solutions are written to")
       ->required();
   app.add_option("--output-baud", opt.output_baud, "output line rate [bit/s]")
@@ -97,6 +120,12 @@ int run(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     std::fprintf(stderr, "navd: %s (see navd --help)\n", e.what());
+    return kExitUsage;
+  }
+  if (auto specs = nav::dut::parse_input_specs(input_specs, bauds); specs) {
+    opt.inputs = std::move(*specs);
+  } else {
+    std::fprintf(stderr, "navd: %s\n", specs.error().detail.c_str());
     return kExitUsage;
   }
 
@@ -130,17 +159,26 @@ int run(int argc, char** argv) {
     if (!g) return kExitPort;
     gps.emplace(std::move(*g));
   }
+  std::vector<nav::dut::ExtraPort> extras;
+  std::string extras_text;
+  for (const auto& spec : opt.inputs) {
+    auto p = open_port(spec.path, spec.baud);
+    if (!p) return kExitPort;
+    extras.push_back(nav::dut::ExtraPort{spec, std::move(*p)});
+    extras_text += " input " + nav::dut::to_string(spec);
+  }
   auto output = open_port(opt.output_path, opt.output_baud);
   if (!output) return kExitPort;
 
-  std::fprintf(stderr, "navd: running: ahrs=%s@%d gps=%s output=%s@%d config=%s delay=%d ms\n",
+  std::fprintf(stderr,
+               "navd: running: ahrs=%s@%d gps=%s%s output=%s@%d config=%s delay=%d ms\n",
                opt.ahrs_path.c_str(), opt.ahrs_baud,
                gps ? (opt.gps_path + "@" + std::to_string(opt.gps_baud)).c_str() : "none",
-               opt.output_path.c_str(), opt.output_baud,
+               extras_text.c_str(), opt.output_path.c_str(), opt.output_baud,
                opt.config_path.empty() ? "defaults" : opt.config_path.c_str(), opt.delay_ms);
 
-  nav::dut::NavdApp navd(opt, params, std::move(*ahrs), std::move(gps), std::move(*output),
-                         signal_fd);
+  nav::dut::NavdApp navd(opt, params, std::move(*ahrs), std::move(gps), std::move(extras),
+                         std::move(*output), signal_fd);
   const std::string reason = navd.run();
   std::fprintf(stderr, "%s\n", navd.stats_line(reason).c_str());
   ::close(signal_fd);

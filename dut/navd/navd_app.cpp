@@ -5,6 +5,7 @@
 #include <sys/signalfd.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <cerrno>
 #include <cmath>
@@ -81,7 +82,7 @@ std::string rejects_text(const RejectCounts& r) {
 
 NavdApp::NavdApp(const NavdOptions& options, const estimator::FilterParams& params,
                  transport::SerialPort ahrs, std::optional<transport::SerialPort> gps,
-                 transport::SerialPort output, int signal_fd)
+                 std::vector<ExtraPort> extras, transport::SerialPort output, int signal_fd)
     : options_(options),
       ahrs_(std::move(ahrs)),
       gps_(std::move(gps)),
@@ -91,11 +92,16 @@ NavdApp::NavdApp(const NavdOptions& options, const estimator::FilterParams& para
       ahrs_decoder_(&protocols::gx3::parse, protocols::gx3::kCmdAccelRateMag, kInputBufferBytes),
       gps_decoder_(&protocols::nmea::parse, static_cast<std::uint8_t>('$'), kInputBufferBytes),
       out_(output_, kOutputQueueBytes),
-      navigator_(params) {}
+      navigator_(params) {
+  extras_.reserve(extras.size());
+  for (auto& e : extras) {
+    extras_.push_back(Extra{std::move(e.port),
+                            AidingInput(e.spec.name, e.spec.protocol, kInputBufferBytes), true});
+  }
+}
 
-template <typename Message>
-void NavdApp::read_input(transport::SerialPort& port, bool& open,
-                         StreamDecoder<Message>& decoder, std::vector<Message>& out) {
+template <typename Sink>
+void NavdApp::read_port(transport::SerialPort& port, bool& open, Sink&& sink) {
   std::array<std::uint8_t, 4096> chunk{};
   std::size_t total = 0;
   while (open && total < kReadPerWakeBytes) {
@@ -107,7 +113,7 @@ void NavdApp::read_input(transport::SerialPort& port, bool& open,
     }
     if (*n == 0) break;  // EAGAIN: everything readable now has been read
     total += *n;
-    decoder.feed(protocols::ByteSpan(chunk.data(), *n), out);
+    sink(protocols::ByteSpan(chunk.data(), *n));
   }
 }
 
@@ -152,6 +158,26 @@ void NavdApp::handle_gps(const protocols::nmea::Sentence& s) {
     fix.sog_mps = *rmc->sog_kn * units::kKnotToMps;
     fix.cog_rad = units::deg_to_rad(*rmc->cog_deg);
     navigator_.add_gps_velocity(fix);
+  } else if (s.type == "VTG") {
+    // Counted only: RMC supplies SOG/COG, and a receiver sending both would fuse twice.
+    if (nmea::decode_vtg(s)) {
+      ++gps_counts_.vtg;
+    } else {
+      ++gps_counts_.bad_fields;
+    }
+  } else if (s.type == "HDT") {
+    if (const auto hdt = nmea::decode_hdt(s)) {
+      ++gps_counts_.hdt;
+      if (hdt->heading_deg) last_heading_deg_ = hdt->heading_deg;
+    } else {
+      ++gps_counts_.bad_fields;
+    }
+  } else if (s.type == "ZDA") {
+    if (nmea::decode_zda(s)) {
+      ++gps_counts_.zda;
+    } else {
+      ++gps_counts_.bad_fields;
+    }
   } else {
     ++gps_counts_.other;
   }
@@ -192,13 +218,19 @@ bool NavdApp::handle_ahrs(const protocols::gx3::AccelRateMag& m) {
 std::string NavdApp::run() {
   std::vector<protocols::gx3::AccelRateMag> ahrs_msgs;
   std::vector<protocols::nmea::Sentence> gps_msgs;
+  constexpr std::size_t kFixedFds = 4;
+  std::vector<pollfd> fds;
   while (stop_reason_.empty()) {
-    // Index 0 signals, 1 AHRS, 2 GPS, 3 output; a closed input is skipped (fd -1).
-    std::array<pollfd, 4> fds{};
+    // Index 0 signals, 1 AHRS, 2 GPS, 3 output, 4.. the --input ports; a closed input is
+    // skipped (fd -1).
+    fds.resize(kFixedFds + extras_.size());
     fds[0] = {signal_fd_, POLLIN, 0};
     fds[1] = {ahrs_open_ ? ahrs_.fd() : -1, POLLIN, 0};
     fds[2] = {gps_open_ ? gps_->fd() : -1, POLLIN, 0};
     fds[3] = {output_.fd(), static_cast<short>(out_.empty() ? 0 : POLLOUT), 0};
+    for (std::size_t i = 0; i < extras_.size(); ++i) {
+      fds[kFixedFds + i] = {extras_[i].open ? extras_[i].port.fd() : -1, POLLIN, 0};
+    }
     if (::poll(fds.data(), fds.size(), -1) < 0) {
       if (errno == EINTR) continue;
       stop_reason_ = std::string("poll failed: ") + std::strerror(errno);
@@ -209,9 +241,20 @@ std::string NavdApp::run() {
     constexpr short kReadable = POLLIN | POLLHUP | POLLERR | POLLNVAL;
     ahrs_msgs.clear();
     gps_msgs.clear();
-    // Trigger port first: GPS bytes that preceded a trigger seen now are readable below.
-    if ((fds[1].revents & kReadable) != 0) read_input(ahrs_, ahrs_open_, ahrs_decoder_, ahrs_msgs);
-    if ((fds[2].revents & kReadable) != 0) read_input(*gps_, gps_open_, gps_decoder_, gps_msgs);
+    // Trigger port first: aiding bytes that preceded a trigger seen now are readable below.
+    if ((fds[1].revents & kReadable) != 0) {
+      read_port(ahrs_, ahrs_open_,
+                [&](protocols::ByteSpan b) { ahrs_decoder_.feed(b, ahrs_msgs); });
+    }
+    if ((fds[2].revents & kReadable) != 0) {
+      read_port(*gps_, gps_open_, [&](protocols::ByteSpan b) { gps_decoder_.feed(b, gps_msgs); });
+    }
+    // --input messages are handled (counted, kept) as they decode: before any AHRS packet.
+    for (std::size_t i = 0; i < extras_.size(); ++i) {
+      if ((fds[kFixedFds + i].revents & kReadable) == 0) continue;
+      Extra& e = extras_[i];
+      read_port(e.port, e.open, [&e](protocols::ByteSpan b) { e.input.feed(b); });
+    }
 
     for (const auto& s : gps_msgs) handle_gps(s);
     for (const auto& m : ahrs_msgs) {
@@ -227,7 +270,9 @@ std::string NavdApp::run() {
       stop_reason_ = "output closed: " + ok.error().detail;
       break;
     }
-    if (!ahrs_open_ && !gps_open_) stop_reason_ = "all inputs closed";
+    const bool extra_open =
+        std::any_of(extras_.begin(), extras_.end(), [](const Extra& e) { return e.open; });
+    if (!ahrs_open_ && !gps_open_ && !extra_open) stop_reason_ = "all inputs closed";
   }
   (void)out_.flush();  // best effort, never blocking
   return stop_reason_;
@@ -241,11 +286,16 @@ std::string NavdApp::stats_line(const std::string& reason) const {
   if (gps_) {
     s += "; gps sentences=" + std::to_string(gps_decoder_.messages()) +
          " gga=" + std::to_string(gps_counts_.gga) + " rmc=" + std::to_string(gps_counts_.rmc) +
-         " other=" + std::to_string(gps_counts_.other) +
+         " vtg=" + std::to_string(gps_counts_.vtg) + " hdt=" + std::to_string(gps_counts_.hdt) +
+         " zda=" + std::to_string(gps_counts_.zda) + " other=" + std::to_string(gps_counts_.other) +
          " no_fix=" + std::to_string(gps_counts_.no_fix) +
          " incomplete=" + std::to_string(gps_counts_.incomplete) +
          " bad_fields=" + std::to_string(gps_counts_.bad_fields) + " rejects{" +
          rejects_text(gps_decoder_.rejects()) + "}";
+  }
+  for (const auto& e : extras_) {
+    s += "; input " + e.input.name() + "=" + std::string(protocol_name(e.input.protocol())) +
+         " " + e.input.counters_text();
   }
   s += "; solutions written=" + std::to_string(out_.written()) +
        " dropped=" + std::to_string(out_.dropped()) +

@@ -2,20 +2,25 @@
 // navd's event loop: one thread, poll(), non-blocking ports.
 //
 //   bench/devices ──AHRS 0xCB──▶ [ahrs tty] ─┐
-//                 ──NMEA GGA/RMC▶ [gps tty] ─┼─ poll() ─▶ wake:
+//                 ──NMEA GGA/RMC▶ [gps tty] ─┤
+//                 ──DVL/USBL/..─▶ [--input] ─┼─ poll() ─▶ wake:
 //   SIGTERM/SIGINT ──────────────▶ [signalfd]┘    1. read every readable input until EAGAIN,
-//                                                    trigger port (AHRS) first, then GPS;
-//                                                    feed each port's stream decoder
+//                                                    trigger port (AHRS) first, then GPS,
+//                                                    then the --input ports in command-line
+//                                                    order; feed each port's stream decoder
+//                                                    (--input messages are counted and the
+//                                                    last one kept as they are decoded)
 //                                                 2. every decoded GPS sentence → fix queue
 //                                                 3. every decoded 0xCB packet, in arrival
 //                                                    order: navigator step (attitude,
 //                                                    predict, queued fixes) → one $PNVBSOL
 //                                                 4. output queue → [output tty] (never blocks)
 //
-// Why this order: the bench makes any GPS bytes that precede a trigger readable before it
-// writes the trigger, so reading the trigger port first and handling GPS before AHRS within
-// a wake applies every fix at the same trigger on every run (lockstep determinism). No wall
-// clock enters the estimate; only --delay-ms sleeps, and only before writing.
+// Why this order: the bench makes any aiding bytes (GPS, DVL, ...) that precede a trigger
+// readable before it writes the trigger, so reading the trigger port first and handling every
+// aiding message before AHRS within a wake applies every fix at the same trigger on every run
+// (lockstep determinism). No wall clock enters the estimate; only --delay-ms sleeps, and only
+// before writing.
 #pragma once
 
 #include <cstdint>
@@ -26,6 +31,7 @@
 #include "nav/estimator/navigator.hpp"
 #include "nav/protocols/microstrain_gx3.hpp"
 #include "nav/protocols/nmea0183.hpp"
+#include "aiding_input.hpp"
 #include "nav/transport/serial_port.hpp"
 #include "output_queue.hpp"
 #include "stream_decoder.hpp"
@@ -42,33 +48,46 @@ struct NavdOptions {
   int output_baud = 115200;         ///< [bit/s]
   std::string config_path;          ///< YAML filter parameters; empty = defaults
   int delay_ms = 0;                 ///< sleep before writing each solution (test aid) [ms]
+  std::vector<InputSpec> inputs;    ///< extra --input ports, in command-line order
 };
 
 /// GPS sentence bookkeeping for the exit summary.
 struct GpsCounts {
   std::uint64_t gga = 0;         ///< GGA sentences decoded
   std::uint64_t rmc = 0;         ///< RMC sentences decoded
+  std::uint64_t vtg = 0;         ///< VTG sentences decoded (counted, not used)
+  std::uint64_t hdt = 0;         ///< HDT sentences decoded (heading kept, not used)
+  std::uint64_t zda = 0;         ///< ZDA sentences decoded (counted, not used)
   std::uint64_t other = 0;       ///< well-formed sentences of other types (ignored)
   std::uint64_t no_fix = 0;      ///< GGA quality 0 / RMC status V (ignored)
   std::uint64_t incomplete = 0;  ///< fix without a needed field (lat/lon/alt, SOG/COG)
-  std::uint64_t bad_fields = 0;  ///< GGA/RMC whose fields did not decode
+  std::uint64_t bad_fields = 0;  ///< GGA/RMC/VTG/HDT/ZDA whose fields did not decode
+};
+
+/// An opened --input port with its front end.
+struct ExtraPort {
+  InputSpec spec;            ///< what the command line said
+  transport::SerialPort port;  ///< the opened tty
 };
 
 /// The running DUT. Not movable: the output queue refers to the output port it owns.
 class NavdApp {
  public:
-  /// Takes the opened ports; signal_fd is a signalfd for SIGTERM/SIGINT.
+  /// Takes the opened ports (extras in options.inputs order); signal_fd is a signalfd for
+  /// SIGTERM/SIGINT.
   NavdApp(const NavdOptions& options, const estimator::FilterParams& params,
           transport::SerialPort ahrs, std::optional<transport::SerialPort> gps,
-          transport::SerialPort output, int signal_fd);
+          std::vector<ExtraPort> extras, transport::SerialPort output, int signal_fd);
   NavdApp(const NavdApp&) = delete;
   NavdApp& operator=(const NavdApp&) = delete;
 
-  /// Runs until SIGTERM/SIGINT, hang-up of the output, or EOF/hang-up of every input.
+  /// Runs until SIGTERM/SIGINT, hang-up of the output, or EOF/hang-up of every input
+  /// (AHRS, GPS and every --input).
   /// Returns why it stopped (for the summary line).
   std::string run();
 
-  /// One-line summary: packets per port, rejects by kind, solutions written.
+  /// One-line summary: packets per port (every --input by message type), rejects by kind,
+  /// solutions written.
   std::string stats_line(const std::string& reason) const;
 
   /// Bytes the output may hold back before dropping old solutions [bytes].
@@ -79,9 +98,9 @@ class NavdApp {
   static constexpr std::size_t kReadPerWakeBytes = 64 * 1024;
 
  private:
-  template <typename Message>
-  void read_input(transport::SerialPort& port, bool& open, StreamDecoder<Message>& decoder,
-                  std::vector<Message>& out);
+  /// Reads `port` until EAGAIN (at most kReadPerWakeBytes), passing each chunk to `sink`.
+  template <typename Sink>
+  void read_port(transport::SerialPort& port, bool& open, Sink&& sink);
   void handle_gps(const protocols::nmea::Sentence& s);
   /// Steps the navigator and writes one solution; false when a signal or output hang-up
   /// says to stop.
@@ -98,10 +117,18 @@ class NavdApp {
   bool gps_open_ = false;
   StreamDecoder<protocols::gx3::AccelRateMag> ahrs_decoder_;
   StreamDecoder<protocols::nmea::Sentence> gps_decoder_;
+  /// One --input: its port, front end, and whether it is still open.
+  struct Extra {
+    transport::SerialPort port;
+    AidingInput input;
+    bool open = true;
+  };
+  std::vector<Extra> extras_;  ///< in command-line order
   OutputQueue out_;
   estimator::Navigator navigator_;
   std::uint64_t seq_ = 0;
   GpsCounts gps_counts_;
+  std::optional<double> last_heading_deg_;  ///< last HDT heading (not used by the filter) [deg]
   std::string stop_reason_;
 };
 

@@ -1,0 +1,139 @@
+// SPDX-License-Identifier: MIT
+// navd's generic extra inputs (`--input NAME=PROTOCOL:PATH[@BAUD]`): the spec parser and the
+// per-port front end. An AidingInput runs one StreamDecoder over the protocol's tri-state
+// codec, counts messages by type and rejects by reason, and keeps the last decoded message.
+// Pure (no I/O): navd_app.cpp reads the port and feeds the bytes.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <variant>
+#include <vector>
+
+#include "nav/common/result.hpp"
+#include "nav/protocols/ebimu.hpp"
+#include "nav/protocols/evologics_usbl.hpp"
+#include "nav/protocols/navquest_nq1.hpp"
+#include "nav/protocols/nmea0183.hpp"
+#include "nav/protocols/rdi_pd0.hpp"
+#include "nav/protocols/rdi_pd6.hpp"
+#include "nav/protocols/waterlinked_a50.hpp"
+#include "stream_decoder.hpp"
+
+namespace nav::dut {
+
+/// Protocols an extra input can speak.
+enum class InputProtocol {
+  kNq1,    ///< LinkQuest NavQuest NQ1 lines ("nq1")
+  kPd0,    ///< Teledyne RDI PD0 binary ensembles ("pd0")
+  kPd6,    ///< Teledyne RDI PD6 ASCII lines ("pd6")
+  kA50,    ///< Water Linked DVL-A50 packets ("a50")
+  kEbimu,  ///< E2BOX EBIMU ASCII lines ("ebimu")
+  kUsbl,   ///< EvoLogics USBLLONG / USBLANGLES ("usbl")
+  kNmea,   ///< NMEA 0183 sentences ("nmea")
+};
+
+/// The protocol's name on the command line, e.g. "pd0".
+std::string_view protocol_name(InputProtocol p);
+
+/// "nq1, pd0, pd6, a50, ebimu, usbl, nmea" (for --help and errors).
+std::string protocol_names();
+
+/// Baud used when the spec gives none: 9600 for NMEA, 115200 otherwise [bit/s].
+int default_baud(InputProtocol p);
+
+/// One `--input NAME=PROTOCOL:PATH[@BAUD]`.
+struct InputSpec {
+  std::string name;                             ///< role, e.g. "dvl"; [a-z0-9_-], 1..32 chars
+  InputProtocol protocol = InputProtocol::kNmea;  ///< what the port speaks
+  std::string path;                             ///< tty path
+  int baud = 115200;                            ///< line rate [bit/s]
+};
+
+/// Parses one spec. NAME: 1..32 of [a-z0-9_-], not "ahrs", "gps" or "output"; PROTOCOL one
+/// of protocol_names(); PATH non-empty; BAUD (after the last '@') one of `bauds`. The error
+/// detail is one line naming the spec.
+Result<InputSpec> parse_input_spec(std::string_view text, const std::vector<int>& bauds);
+
+/// Parses every spec and refuses a NAME used twice.
+Result<std::vector<InputSpec>> parse_input_specs(const std::vector<std::string>& texts,
+                                                 const std::vector<int>& bauds);
+
+/// "name=protocol:path@baud".
+std::string to_string(const InputSpec& spec);
+
+/// Reject counters of one input: the stream decoder's plus frames whose fields did not decode.
+struct InputRejects {
+  RejectCounts stream;         ///< checksum, framing, sync_bytes, overflow_bytes
+  std::uint64_t fields = 0;    ///< well-framed messages whose fields did not decode
+};
+
+/// Front end of one extra input port.
+class AidingInput {
+ public:
+  /// The last decoded message, whatever the protocol (monostate before the first).
+  using Message = std::variant<std::monostate, protocols::navquest_nq1::Nq1,
+                               protocols::rdi_pd0::Ensemble, protocols::rdi_pd6::Line,
+                               protocols::waterlinked_a50::Packet, protocols::ebimu::Line,
+                               protocols::evologics::Notification, protocols::nmea::Sentence>;
+
+  /// max_buffer: bound on undecoded bytes for every protocol but PD0, whose ensembles can
+  /// be 64 KiB long and get kPd0BufferBytes [bytes].
+  AidingInput(std::string name, InputProtocol protocol, std::size_t max_buffer);
+
+  /// Decodes bytes as they arrive; counts and records every completed message.
+  void feed(protocols::ByteSpan bytes);
+
+  const std::string& name() const { return name_; }
+  InputProtocol protocol() const { return protocol_; }
+  std::uint64_t messages() const;  ///< messages counted by type (well-framed and decoded)
+  /// Messages by type, e.g. {"BI": 3, "BS": 3} for PD6; unknown types are "other".
+  const std::map<std::string, std::uint64_t>& by_type() const { return by_type_; }
+  InputRejects rejects() const;
+  std::size_t buffered() const;  ///< undecoded bytes held
+  const Message& last() const { return last_; }
+
+  /// Vehicle velocity of the last DVL message that carried a valid one, in the frame the
+  /// DVL reports it (PD0/NQ1: as configured, PD6 :BI/:BE, A50 wrz: DVL frame) [m/s].
+  const std::optional<std::array<double, 3>>& last_velocity_mps() const { return velocity_; }
+
+  /// "messages=N{type=n ...} rejects{checksum=.. framing=.. sync_bytes=.. overflow_bytes=..
+  /// fields=..}".
+  std::string counters_text() const;
+
+  /// Most undecoded bytes a PD0 input holds: one whole ensemble of 65 537 bytes fits [bytes].
+  static constexpr std::size_t kPd0BufferBytes = 72 * 1024;
+
+ private:
+  void on_message(const protocols::navquest_nq1::Nq1& m);
+  void on_message(const protocols::rdi_pd0::Ensemble& m);
+  void on_message(const protocols::rdi_pd6::Line& m);
+  void on_message(const protocols::waterlinked_a50::Packet& m);
+  void on_message(const protocols::ebimu::Line& m);
+  void on_message(const protocols::evologics::Notification& m);
+  void on_message(const protocols::nmea::Sentence& m);
+  void count(const std::string& type) { ++by_type_[type]; }
+
+  using Decoder = std::variant<StreamDecoder<protocols::navquest_nq1::Nq1>,
+                               StreamDecoder<protocols::rdi_pd0::Ensemble>,
+                               StreamDecoder<protocols::rdi_pd6::Line>,
+                               StreamDecoder<protocols::waterlinked_a50::Packet>,
+                               StreamDecoder<protocols::ebimu::Line>,
+                               StreamDecoder<protocols::evologics::Notification>,
+                               StreamDecoder<protocols::nmea::Sentence>>;
+  static Decoder make_decoder(InputProtocol protocol, std::size_t max_buffer);
+
+  std::string name_;
+  InputProtocol protocol_;
+  Decoder decoder_;
+  std::map<std::string, std::uint64_t> by_type_;
+  std::uint64_t field_errors_ = 0;
+  Message last_;
+  std::optional<std::array<double, 3>> velocity_;
+};
+
+}  // namespace nav::dut
