@@ -9,6 +9,8 @@
 #include <CLI/CLI.hpp>
 
 #include "nav/bench/decode.hpp"
+#include "nav/bench/record.hpp"
+#include "nav/bench/replay.hpp"
 #include "nav/bench/runner.hpp"
 
 namespace {
@@ -86,6 +88,44 @@ int main(int argc, char** argv) {
                   "Read FILE as a navbench capture (capture-tx.log / capture-rx.log) and decode "
                   "the bytes of this port (a device name, or 'output')");
 
+  ReplayOptions replay;
+  bool replay_dut = false;
+  auto* rep = app.add_subcommand(
+      "replay", "Play a navbench capture (e.g. a run's capture-tx.log) onto serial lines with its "
+                "recorded timing, optionally to a DUT whose output is captured");
+  rep->add_option("capture", replay.capture_path, "Capture file: (<sec>.<nsec>) <port> <hex> lines")
+      ->required()
+      ->check(CLI::ExistingFile);
+  rep->add_option("--port", replay.ports,
+                  "NAME=PATH[@BAUD]: play port NAME onto this serial line (default baud 115200); "
+                  "ports not mapped get a pty, printed as 'NAME: /dev/pts/N'")
+      ->allow_extra_args(false);
+  rep->add_option("--speed", replay.speed, "Time scale: 2 plays twice as fast (default 1)")
+      ->check(CLI::PositiveNumber);
+  rep->add_option("--startup", replay.startup_s,
+                  "Seconds to wait after printing the ptys (and starting the DUT) before "
+                  "playing (default 1)")
+      ->check(CLI::NonNegativeNumber);
+  rep->add_flag("--dut", replay_dut,
+                "Start a DUT: --dut -- ARGV... ({port:NAME} and {port:output} are replaced by "
+                "the line paths); it is stopped with SIGTERM at the end");
+  rep->add_option("--out-capture", replay.out_capture,
+                  "With --dut: capture of the DUT's output (default replay-rx.log)");
+  rep->add_option("--dut-log", replay.dut_log,
+                  "With --dut: the DUT's stdout and stderr (default replay-dut.log)");
+  rep->add_option("dut_argv", replay.dut_argv, "The DUT's argv, after --dut --");
+
+  RecordOptions record;
+  auto* rec = app.add_subcommand(
+      "record", "Record serial ports (or pty slaves) into a navbench capture, timestamped on "
+                "CLOCK_MONOTONIC from the start; ends after --duration or on SIGINT/SIGTERM");
+  rec->add_option("ports", record.ports, "NAME=PATH@BAUD, one per port")->required();
+  rec->add_option("--duration", record.duration_s, "Seconds to record (default: until a signal)")
+      ->check(CLI::NonNegativeNumber);
+  rec->add_option("-o,--out", record.out_path,
+                  "Capture file to write (written as CAPTURE.partial, renamed at the end)")
+      ->required();
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -93,6 +133,14 @@ int main(int argc, char** argv) {
     return rc == 0 ? 0 : kExitUsage;
   }
   if (*dec) return decode_file(protocol, file, port);
+  if (*rep) {
+    if (replay_dut != !replay.dut_argv.empty()) {
+      std::fprintf(stderr, "navbench: replay: give the DUT as --dut -- ARGV...\n");
+      return kExitUsage;
+    }
+    return replay_capture(replay);
+  }
+  if (*rec) return record_ports(record);
   if (!mode.empty()) run.mode = mode == "lockstep" ? TimeMode::kLockstep : TimeMode::kRealtime;
   return run_scenario(run);
 }

@@ -1,0 +1,57 @@
+// SPDX-License-Identifier: MIT
+// `navbench replay`: plays a navbench capture (`(<sec>.<nsec>) <port> <hex>` lines, e.g. a
+// run folder's capture-tx.log) back onto serial lines with its recorded timing, optionally
+// to a DUT whose answers are captured.
+//
+// Timing: every capture line is written whole at an absolute CLOCK_MONOTONIC deadline,
+// start + (t - t_first) / speed (clock_nanosleep TIMER_ABSTIME). Lateness = actual write time
+// - deadline. Like `run`, a line never blocks: bytes the reader does not take are dropped.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "nav/common/result.hpp"
+#include "nav/common/time.hpp"
+#include "nav/protocols/parse.hpp"
+
+namespace nav::bench {
+
+/// One line of a capture file.
+struct CaptureLine {
+  Duration t{};             ///< recorded time (relative to the capture's t0; may be < 0)
+  std::string port;         ///< port name
+  protocols::Bytes bytes;   ///< bytes of the line
+  std::size_t line_no = 0;  ///< 1-based line in the file
+};
+
+/// Parses a whole capture; empty lines are skipped. The error of a malformed line is
+/// "FILE:LINE: expected '(<sec>.<nsec>) <port> <hex>'" (kParse).
+Result<std::vector<CaptureLine>> parse_capture(const std::string& text, const std::string& file);
+
+/// `NAME=PATH[@BAUD]` (a --port value of replay, a PORT of record).
+struct PortMapping {
+  std::string name;
+  std::string path;
+  std::optional<int> baud;  ///< [bit/s]
+};
+
+/// Parses NAME=PATH[@BAUD]; the baud must be one SerialPort accepts (kInvalidArgument).
+Result<PortMapping> parse_port_mapping(const std::string& text);
+
+struct ReplayOptions {
+  std::string capture_path;
+  std::vector<std::string> ports;      ///< NAME=PATH[@BAUD]; unmapped ports get a pty
+  double speed = 1.0;                  ///< time scale: 2 plays twice as fast
+  double startup_s = 1.0;              ///< wait after the pty paths are printed [s]
+  std::vector<std::string> dut_argv;   ///< empty: no DUT
+  std::string out_capture = "replay-rx.log";  ///< the DUT's output (with a DUT)
+  std::string dut_log = "replay-dut.log";     ///< the DUT's stdout/stderr (with a DUT)
+};
+
+/// Runs a replay; prints the pty paths and a one-line summary; returns the exit code
+/// (0 done, 2 usage or capture error, 3 bench error or interrupted, 4 DUT exited early).
+int replay_capture(const ReplayOptions& options);
+
+}  // namespace nav::bench

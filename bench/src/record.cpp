@@ -1,0 +1,191 @@
+// SPDX-License-Identifier: MIT
+#include "nav/bench/record.hpp"
+
+#include <poll.h>
+#include <signal.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <memory>
+
+#include "nav/bench/capture.hpp"
+#include "nav/bench/replay.hpp"
+#include "nav/bench/runner.hpp"
+#include "nav/common/time.hpp"
+#include "nav/transport/serial_port.hpp"
+
+namespace nav::bench {
+namespace {
+
+using namespace std::chrono_literals;
+
+std::atomic<bool> g_stop{false};
+extern "C" void on_record_signal(int) { g_stop = true; }
+
+constexpr Duration kPollSlice = 100ms;  // longest poll; bounds the reaction to a signal
+
+struct Port {
+  std::string name;
+  transport::SerialPort serial;
+  std::size_t bytes = 0, reads = 0;
+  std::string closed;  // why reading stopped (hang-up), empty while open
+};
+
+}  // namespace
+
+int record_ports(const RecordOptions& o) {
+  if (o.ports.empty()) {
+    std::fprintf(stderr, "navbench: record: give at least one PORT=PATH@BAUD\n");
+    return kExitUsage;
+  }
+  if (!(o.duration_s >= 0.0)) {
+    std::fprintf(stderr, "navbench: record: --duration must be >= 0\n");
+    return kExitUsage;
+  }
+  if (o.out_path.empty()) {
+    std::fprintf(stderr, "navbench: record: -o CAPTURE is required\n");
+    return kExitUsage;
+  }
+  std::vector<PortMapping> maps;
+  for (const auto& text : o.ports) {
+    auto m = parse_port_mapping(text);
+    if (!m) {
+      std::fprintf(stderr, "navbench: record: %s\n", m.error().detail.c_str());
+      return kExitUsage;
+    }
+    if (!m->baud) {
+      std::fprintf(stderr, "navbench: record: '%s': expected NAME=PATH@BAUD\n", text.c_str());
+      return kExitUsage;
+    }
+    if (m->name.find_first_of(" \t()") != std::string::npos) {
+      std::fprintf(stderr, "navbench: record: '%s': a port name cannot hold spaces or "
+                   "parentheses\n", text.c_str());
+      return kExitUsage;
+    }
+    for (const auto& other : maps) {
+      if (other.name == m->name) {
+        std::fprintf(stderr, "navbench: record: port '%s' given twice\n", m->name.c_str());
+        return kExitUsage;
+      }
+    }
+    maps.push_back(*m);
+  }
+
+  std::vector<Port> ports;
+  for (const auto& m : maps) {
+    auto s = transport::SerialPort::open(m.path, *m.baud);
+    if (!s) {
+      std::fprintf(stderr, "navbench: record: port '%s': %s\n", m.name.c_str(),
+                   s.error().detail.c_str());
+      return kExitBench;
+    }
+    ports.push_back(Port{m.name, std::move(*s), 0, 0, {}});
+  }
+
+  namespace fs = std::filesystem;
+  const std::string partial = o.out_path + ".partial";
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(partial.c_str(), "w"), &std::fclose);
+  if (!f) {
+    std::fprintf(stderr, "navbench: record: cannot write %s: %s\n", partial.c_str(),
+                 std::strerror(errno));
+    return kExitBench;
+  }
+
+  struct sigaction sa {};
+  sa.sa_handler = on_record_signal;  // no SA_RESTART: poll() returns EINTR at once
+  ::sigaction(SIGINT, &sa, nullptr);
+  ::sigaction(SIGTERM, &sa, nullptr);
+
+  const Timestamp start = monotonic_now();
+  const bool bounded = o.duration_s > 0.0;
+  const Timestamp end = start + from_seconds(o.duration_s);
+  for (const auto& p : ports) {
+    std::printf("recording %s (%s @ %d)\n", p.name.c_str(), p.serial.path().c_str(),
+                p.serial.baud());
+  }
+  std::printf("recording to %s%s\n", o.out_path.c_str(),
+              bounded ? "" : " until SIGINT/SIGTERM");
+  std::fflush(stdout);
+
+  std::vector<pollfd> fds;
+  std::vector<std::size_t> which;
+  std::uint8_t buf[4096];
+  bool write_failed = false;
+  for (;;) {
+    if (g_stop) break;
+    Timestamp now = monotonic_now();
+    if (bounded && now >= end) break;
+    fds.clear();
+    which.clear();
+    for (std::size_t i = 0; i < ports.size(); ++i) {
+      if (!ports[i].closed.empty()) continue;
+      fds.push_back(pollfd{ports[i].serial.fd(), POLLIN, 0});
+      which.push_back(i);
+    }
+    if (fds.empty()) break;  // every port hung up
+    Duration wait = kPollSlice;
+    if (bounded) wait = std::min(wait, end - now);
+    const int timeout_ms =
+        static_cast<int>(std::max<std::int64_t>(1, (wait.count() + 999'999) / 1'000'000));
+    const int r = ::poll(fds.data(), fds.size(), timeout_ms);
+    if (r <= 0) continue;  // timeout or EINTR
+    for (std::size_t k = 0; k < fds.size(); ++k) {
+      if (fds[k].revents == 0) continue;
+      Port& p = ports[which[k]];
+      for (;;) {
+        auto n = p.serial.read_some(buf);
+        if (!n) {
+          p.closed = n.error().detail;
+          std::fprintf(stderr, "navbench: record: port '%s': %s; stopped reading it\n",
+                       p.name.c_str(), p.closed.c_str());
+          break;
+        }
+        if (*n == 0) break;
+        const Timestamp rx = monotonic_now();
+        write_capture_line(f.get(), rx - start, p.name, std::span(buf, *n));
+        p.bytes += *n;
+        ++p.reads;
+      }
+    }
+    if (std::ferror(f.get())) {
+      write_failed = true;
+      break;
+    }
+  }
+  const double elapsed = to_seconds(monotonic_now() - start);
+
+  // Every exit path from here: flush, close, rename (or report and keep the .partial).
+  const bool flushed = std::fflush(f.get()) == 0 && !write_failed && !std::ferror(f.get());
+  const bool closed = std::fclose(f.release()) == 0;
+  std::error_code ec;
+  if (flushed && closed) fs::rename(partial, o.out_path, ec);
+  if (!flushed || !closed || ec) {
+    std::fprintf(stderr, "navbench: record: cannot write %s: %s (partial output in %s)\n",
+                 o.out_path.c_str(), ec ? ec.message().c_str() : std::strerror(errno),
+                 partial.c_str());
+    return kExitBench;
+  }
+
+  std::string s = "navbench record: ";
+  std::size_t total = 0;
+  for (std::size_t i = 0; i < ports.size(); ++i) {
+    const auto& p = ports[i];
+    total += p.bytes;
+    s += (i ? ", " : "") + p.name + " " + std::to_string(p.bytes) + " bytes (" +
+         std::to_string(p.reads) + " reads" + (p.closed.empty() ? "" : ", hung up") + ")";
+  }
+  char tail[160];
+  std::snprintf(tail, sizeof tail, "; %zu bytes in %.2f s%s -> ", total, elapsed,
+                g_stop ? " (stopped by signal)" : "");
+  s += tail + o.out_path;
+  std::printf("%s\n", s.c_str());
+  std::fflush(stdout);
+  return kExitPass;
+}
+
+}  // namespace nav::bench

@@ -1,0 +1,435 @@
+// SPDX-License-Identifier: MIT
+#include "nav/bench/replay.hpp"
+
+#include <pthread.h>
+#include <sched.h>
+#include <signal.h>
+#include <sys/prctl.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cerrno>
+#include <charconv>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <memory>
+#include <sstream>
+#include <thread>
+
+#include "nav/bench/dut_process.hpp"
+#include "nav/bench/output_reader.hpp"
+#include "nav/bench/pty.hpp"
+#include "nav/bench/runner.hpp"
+#include "nav/reports/run_record.hpp"
+#include "nav/transport/serial_port.hpp"
+
+namespace nav::bench {
+namespace {
+
+using namespace std::chrono_literals;
+
+constexpr int kDefaultBaud = 115200;             // a mapped port without @BAUD
+constexpr Duration kCheckPeriod = 50ms;          // how often the DUT is watched while playing
+constexpr Duration kDrainQuiet = 500ms;          // end of replay: no new solution for this long
+constexpr Duration kDrainMax = 3s;               // ... or at most this long
+
+std::atomic<bool> g_interrupted{false};
+extern "C" void on_replay_signal(int) { g_interrupted = true; }
+
+void sleep_until(Timestamp t) {
+  const timespec ts = to_timespec(t);
+  while (::clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
+    if (g_interrupted) return;
+  }
+}
+
+/// Best effort: real-time priority and a 1 ns timer slack for the calling thread.
+void try_realtime_priority(int priority) {
+  ::prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL);
+  sched_param p{};
+  p.sched_priority = priority;
+  (void)::pthread_setschedparam(::pthread_self(), SCHED_FIFO, &p);
+}
+
+int hex_digit(char c) {
+  if (c >= '0' && c <= '9') return c - '0';
+  if (c >= 'A' && c <= 'F') return c - 'A' + 10;
+  if (c >= 'a' && c <= 'f') return c - 'a' + 10;
+  return -1;
+}
+
+bool all_digits(std::string_view s) {
+  return !s.empty() && std::all_of(s.begin(), s.end(), [](char c) { return c >= '0' && c <= '9'; });
+}
+
+/// "(<sec>.<nsec>) <port> <hex>" -> line; false when malformed.
+bool parse_line(std::string_view s, CaptureLine& out) {
+  if (!s.empty() && s.back() == '\r') s.remove_suffix(1);
+  if (s.size() < 2 || s[0] != '(') return false;
+  const auto close = s.find(')');
+  if (close == std::string_view::npos) return false;
+  std::string_view time = s.substr(1, close - 1);
+  const bool negative = !time.empty() && time[0] == '-';
+  if (negative) time.remove_prefix(1);
+  const auto dot = time.find('.');
+  if (dot == std::string_view::npos) return false;
+  const std::string_view sec = time.substr(0, dot), frac = time.substr(dot + 1);
+  if (!all_digits(sec) || !all_digits(frac) || frac.size() > 9 || sec.size() > 10) return false;
+  long long secs = 0, nsec = 0;
+  std::from_chars(sec.data(), sec.data() + sec.size(), secs);
+  std::from_chars(frac.data(), frac.data() + frac.size(), nsec);
+  for (std::size_t i = frac.size(); i < 9; ++i) nsec *= 10;
+  const long long ns = secs * 1'000'000'000LL + nsec;
+  out.t = Duration{negative ? -ns : ns};
+
+  std::string_view rest = s.substr(close + 1);
+  if (rest.empty() || rest[0] != ' ') return false;
+  rest.remove_prefix(1);
+  const auto space = rest.find(' ');
+  if (space == 0 || space == std::string_view::npos) return false;
+  out.port = std::string(rest.substr(0, space));
+  const std::string_view hex = rest.substr(space + 1);
+  if (hex.size() % 2 != 0) return false;
+  out.bytes.clear();
+  out.bytes.reserve(hex.size() / 2);
+  for (std::size_t i = 0; i < hex.size(); i += 2) {
+    const int hi = hex_digit(hex[i]), lo = hex_digit(hex[i + 1]);
+    if (hi < 0 || lo < 0) return false;
+    out.bytes.push_back(static_cast<std::uint8_t>(hi * 16 + lo));
+  }
+  return true;
+}
+
+/// The bench's end of one replayed line: a pty or a real port.
+struct Line {
+  std::string name;
+  std::optional<Pty> pty;
+  std::optional<transport::SerialPort> serial;
+  std::size_t bytes = 0, dropped = 0, lines = 0;
+  int fd() const { return pty ? pty->master() : serial->fd(); }
+  std::string path() const { return pty ? pty->slave_path() : serial->path(); }
+};
+
+Result<Line> open_line(const std::string& name, const std::optional<PortMapping>& map) {
+  Line l;
+  l.name = name;
+  if (!map) {
+    auto p = Pty::open();
+    if (!p) return tl::unexpected(p.error());
+    l.pty.emplace(std::move(*p));
+  } else {
+    auto s = transport::SerialPort::open(map->path, map->baud.value_or(kDefaultBaud));
+    if (!s) return tl::unexpected(s.error());
+    l.serial.emplace(std::move(*s));
+  }
+  return l;
+}
+
+std::string ms(double s) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.3f ms", s * 1e3);
+  return b;
+}
+
+}  // namespace
+
+Result<std::vector<CaptureLine>> parse_capture(const std::string& text, const std::string& file) {
+  std::vector<CaptureLine> out;
+  std::istringstream in(text);
+  std::size_t line_no = 0;
+  for (std::string line; std::getline(in, line);) {
+    ++line_no;
+    if (line.empty() || line == "\r") continue;
+    CaptureLine l;
+    if (!parse_line(line, l)) {
+      return fail(ErrorCode::kParse, file + ":" + std::to_string(line_no) +
+                                          ": expected '(<sec>.<nsec>) <port> <hex>'");
+    }
+    l.line_no = line_no;
+    out.push_back(std::move(l));
+  }
+  return out;
+}
+
+Result<PortMapping> parse_port_mapping(const std::string& text) {
+  const auto eq = text.find('=');
+  if (eq == std::string::npos || eq == 0 || eq + 1 == text.size()) {
+    return fail(ErrorCode::kInvalidArgument, "'" + text + "': expected NAME=PATH[@BAUD]");
+  }
+  PortMapping m;
+  m.name = text.substr(0, eq);
+  m.path = text.substr(eq + 1);
+  const auto at = m.path.rfind('@');
+  if (at != std::string::npos) {
+    const std::string b = m.path.substr(at + 1);
+    int baud = 0;
+    const auto [p, ec] = std::from_chars(b.data(), b.data() + b.size(), baud);
+    const auto bauds = transport::SerialPort::supported_bauds();
+    if (b.empty() || ec != std::errc{} || p != b.data() + b.size() ||
+        std::find(bauds.begin(), bauds.end(), baud) == bauds.end()) {
+      std::string list;
+      for (int x : bauds) list += (list.empty() ? "" : ", ") + std::to_string(x);
+      return fail(ErrorCode::kInvalidArgument,
+                  "'" + text + "': unsupported baud '" + b + "' (supported: " + list + ")");
+    }
+    m.baud = baud;
+    m.path.resize(at);
+    if (m.path.empty()) {
+      return fail(ErrorCode::kInvalidArgument, "'" + text + "': expected NAME=PATH[@BAUD]");
+    }
+  }
+  return m;
+}
+
+int replay_capture(const ReplayOptions& o) {
+  // --- the capture -------------------------------------------------------------------------
+  std::ifstream in(o.capture_path, std::ios::binary);
+  if (!in) {
+    std::fprintf(stderr, "navbench: cannot open %s\n", o.capture_path.c_str());
+    return kExitUsage;
+  }
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  auto parsed = parse_capture(text, o.capture_path);
+  if (!parsed) {
+    std::fprintf(stderr, "navbench: %s\n", parsed.error().detail.c_str());
+    return kExitUsage;
+  }
+  std::vector<CaptureLine> lines = std::move(*parsed);
+  if (!(o.speed > 0.0)) {
+    std::fprintf(stderr, "navbench: --speed must be > 0\n");
+    return kExitUsage;
+  }
+  // Lines are written when a message completes, so two ports' lines can be slightly out of
+  // order in the file; play them in time order.
+  std::stable_sort(lines.begin(), lines.end(),
+                   [](const CaptureLine& a, const CaptureLine& b) { return a.t < b.t; });
+
+  std::vector<std::string> names;  // in order of first appearance in the file
+  {
+    std::vector<const CaptureLine*> by_file;
+    for (const auto& l : lines) by_file.push_back(&l);
+    std::sort(by_file.begin(), by_file.end(),
+              [](const CaptureLine* a, const CaptureLine* b) { return a->line_no < b->line_no; });
+    for (const auto* l : by_file) {
+      if (std::find(names.begin(), names.end(), l->port) == names.end()) names.push_back(l->port);
+    }
+  }
+  const bool with_dut = !o.dut_argv.empty();
+  if (with_dut && std::find(names.begin(), names.end(), "output") != names.end()) {
+    std::fprintf(stderr, "navbench: %s: a port named 'output' cannot be replayed to a DUT "
+                 "({port:output} is the DUT's output)\n", o.capture_path.c_str());
+    return kExitUsage;
+  }
+
+  // --- --port mappings ---------------------------------------------------------------------
+  std::vector<std::optional<PortMapping>> maps(names.size());
+  std::optional<PortMapping> output_map;
+  for (const auto& text_map : o.ports) {
+    auto m = parse_port_mapping(text_map);
+    if (!m) {
+      std::fprintf(stderr, "navbench: --port %s\n", m.error().detail.c_str());
+      return kExitUsage;
+    }
+    if (with_dut && m->name == "output") {
+      output_map = *m;
+      continue;
+    }
+    const auto it = std::find(names.begin(), names.end(), m->name);
+    if (it == names.end()) {
+      std::string list;
+      for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
+      std::fprintf(stderr, "navbench: --port %s: no port '%s' in %s (ports: %s)\n",
+                   text_map.c_str(), m->name.c_str(), o.capture_path.c_str(), list.c_str());
+      return kExitUsage;
+    }
+    auto& slot = maps[static_cast<std::size_t>(it - names.begin())];
+    if (slot) {
+      std::fprintf(stderr, "navbench: --port %s: port '%s' mapped twice\n", text_map.c_str(),
+                   m->name.c_str());
+      return kExitUsage;
+    }
+    slot = *m;
+  }
+  if (with_dut && !DutProcess::resolve(o.dut_argv.front())) {
+    std::fprintf(stderr, "navbench: --dut: program '%s' not found (looked beside navbench and "
+                 "in PATH)\n", o.dut_argv.front().c_str());
+    return kExitUsage;
+  }
+
+  // --- open the lines ----------------------------------------------------------------------
+  std::vector<Line> ports;
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    auto l = open_line(names[i], maps[i]);
+    if (!l) {
+      std::fprintf(stderr, "navbench: port '%s': %s\n", names[i].c_str(), l.error().detail.c_str());
+      return kExitBench;
+    }
+    ports.push_back(std::move(*l));
+  }
+  std::optional<Line> output;
+  if (with_dut) {
+    auto l = open_line("output", output_map);
+    if (!l) {
+      std::fprintf(stderr, "navbench: port 'output': %s\n", l.error().detail.c_str());
+      return kExitBench;
+    }
+    output.emplace(std::move(*l));
+  }
+  std::vector<std::uint32_t> port_of(lines.size());
+  for (std::size_t k = 0; k < lines.size(); ++k) {
+    port_of[k] = static_cast<std::uint32_t>(
+        std::find(names.begin(), names.end(), lines[k].port) - names.begin());
+  }
+  for (const auto& p : ports) {
+    if (p.pty) std::printf("%s: %s\n", p.name.c_str(), p.path().c_str());
+  }
+  if (output && output->pty) std::printf("output: %s\n", output->path().c_str());
+  std::fflush(stdout);
+
+  struct sigaction sa {};
+  sa.sa_handler = on_replay_signal;
+  ::sigaction(SIGINT, &sa, nullptr);
+  ::sigaction(SIGTERM, &sa, nullptr);
+  ::signal(SIGPIPE, SIG_IGN);
+
+  // --- the DUT -----------------------------------------------------------------------------
+  std::unique_ptr<DutProcess> dut;
+  std::unique_ptr<OutputReader> reader;
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> rx(nullptr, &std::fclose);
+  const Duration startup = from_seconds(std::max(0.0, o.startup_s));
+  const Timestamp start = monotonic_now() + startup;
+  std::vector<std::string> argv;
+  if (with_dut) {
+    rx.reset(std::fopen(o.out_capture.c_str(), "w"));
+    if (!rx) {
+      std::fprintf(stderr, "navbench: cannot write %s: %s\n", o.out_capture.c_str(),
+                   std::strerror(errno));
+      return kExitBench;
+    }
+    for (std::string a : o.dut_argv) {
+      for (std::size_t d = 0; d <= ports.size(); ++d) {
+        const std::string key = "{port:" + (d < ports.size() ? ports[d].name : "output") + "}";
+        const std::string path = d < ports.size() ? ports[d].path() : output->path();
+        for (auto pos = a.find(key); pos != std::string::npos; pos = a.find(key, pos + path.size())) {
+          a.replace(pos, key.size(), path);
+        }
+      }
+      argv.push_back(a);
+    }
+    auto d = DutProcess::start(argv, o.dut_log);
+    if (!d) {
+      std::fprintf(stderr, "navbench: cannot start the DUT: %s\n", d.error().detail.c_str());
+      return kExitBench;
+    }
+    dut = std::make_unique<DutProcess>(std::move(*d));
+    reader = std::make_unique<OutputReader>(output->fd(), rx.get(), start);
+    reader->start();
+  }
+  std::string dut_early;  // how the DUT ended, when it did before the end
+  auto dut_alive = [&] {
+    if (!dut) return true;
+    if (!dut_early.empty()) return false;
+    if (dut->running()) return true;
+    dut_early = dut->exit_description();
+    return false;
+  };
+  while (monotonic_now() < start && !g_interrupted && (!dut || dut_alive())) {
+    std::this_thread::sleep_for(5ms);
+  }
+
+  // --- play --------------------------------------------------------------------------------
+  try_realtime_priority(20);
+  const Duration base = lines.empty() ? Duration{0} : std::min(Duration{0}, lines.front().t);
+  std::vector<double> lateness;
+  lateness.reserve(lines.size());
+  std::size_t played = 0;
+  Timestamp next_check = start;
+  const Timestamp play_start = monotonic_now();
+  for (std::size_t k = 0; k < lines.size() && dut_early.empty(); ++k) {
+    if (g_interrupted) break;
+    const auto& l = lines[k];
+    const Timestamp deadline =
+        start + Duration{static_cast<std::int64_t>(static_cast<double>((l.t - base).count()) / o.speed)};
+    if (dut && deadline >= next_check) {
+      if (!dut_alive()) break;
+      next_check = deadline + kCheckPeriod;
+    }
+    sleep_until(deadline);
+    if (g_interrupted) break;
+    Line& p = ports[port_of[k]];
+    const Timestamp actual = monotonic_now();
+    const ssize_t n = l.bytes.empty() ? 0 : ::write(p.fd(), l.bytes.data(), l.bytes.size());
+    // A serial line never blocks: bytes the reader does not take are lost.
+    const std::size_t written = n > 0 ? static_cast<std::size_t>(n) : 0;
+    p.bytes += written;
+    p.dropped += l.bytes.size() - written;
+    ++p.lines;
+    ++played;
+    lateness.push_back(to_seconds(actual - deadline));
+  }
+  const double play_s = to_seconds(monotonic_now() - play_start);
+
+  // --- drain and stop the DUT --------------------------------------------------------------
+  std::size_t solutions = 0, malformed = 0;
+  if (dut) {
+    const Timestamp give_up = monotonic_now() + kDrainMax;
+    std::size_t seen = reader->answer_count();
+    Timestamp last_change = monotonic_now();
+    while (!g_interrupted && dut_alive() && monotonic_now() < give_up &&
+           monotonic_now() - last_change < kDrainQuiet) {
+      std::this_thread::sleep_for(20ms);
+      const std::size_t now_seen = reader->answer_count();
+      if (now_seen != seen) {
+        seen = now_seen;
+        last_change = monotonic_now();
+      }
+    }
+    dut_alive();
+    dut->stop();
+    reader->stop();
+    solutions = reader->answer_count();
+    malformed = reader->malformed();
+    std::fflush(rx.get());
+  }
+
+  // --- summary -----------------------------------------------------------------------------
+  std::size_t bytes = 0, dropped = 0;
+  for (const auto& p : ports) {
+    bytes += p.bytes;
+    dropped += p.dropped;
+  }
+  const auto st = reports::summarize(lateness);
+  std::string s = "navbench replay: " + std::to_string(ports.size()) + " ports, " +
+                  std::to_string(bytes) + " bytes, " + std::to_string(played) + " lines";
+  if (played != lines.size()) s += " (of " + std::to_string(lines.size()) + ")";
+  char secs[32];
+  std::snprintf(secs, sizeof secs, " in %.2f s", play_s);
+  s += secs;
+  if (dropped > 0) s += ", " + std::to_string(dropped) + " bytes dropped";
+  s += "; lateness p50 " + ms(st.p50_s) + " p99 " + ms(st.p99_s) + " max " + ms(st.max_s);
+  if (dut) {
+    s += "; DUT solutions " + std::to_string(solutions);
+    if (malformed > 0) s += " (" + std::to_string(malformed) + " malformed)";
+    s += " -> " + o.out_capture;
+  } else {
+    s += "; no DUT";
+  }
+  std::printf("%s\n", s.c_str());
+  std::fflush(stdout);
+  if (g_interrupted) {
+    std::fprintf(stderr, "navbench: replay interrupted\n");
+    return kExitBench;
+  }
+  if (!dut_early.empty()) {
+    std::fprintf(stderr, "navbench: the DUT %s before the end of the replay (log: %s)\n",
+                 dut_early.c_str(), o.dut_log.c_str());
+    return kExitDut;
+  }
+  return kExitPass;
+}
+
+}  // namespace nav::bench
