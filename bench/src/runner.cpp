@@ -15,6 +15,7 @@
 #include <ctime>
 #include <filesystem>
 #include <memory>
+#include <stdexcept>
 #include <thread>
 #include <unordered_map>
 
@@ -24,6 +25,10 @@
 #include "nav/bench/output_reader.hpp"
 #include "nav/bench/pty.hpp"
 #include "nav/bench/wire_schedule.hpp"
+#include "nav/emulators/dvl_emulator.hpp"
+#include "nav/emulators/ebimu_emulator.hpp"
+#include "nav/emulators/faults.hpp"
+#include "nav/emulators/usbl_emulator.hpp"
 #include "nav/reports/run_record.hpp"
 #include "nav/transport/serial_port.hpp"
 
@@ -62,10 +67,6 @@ void try_realtime_priority(int priority) {
   sched_param p{};
   p.sched_priority = priority;
   (void)::pthread_setschedparam(::pthread_self(), SCHED_FIFO, &p);
-}
-
-std::string device_type_name(DeviceSpec::Type t) {
-  return t == DeviceSpec::Type::kMicrostrainGx3 ? "microstrain-gx3-25" : "nmea0183-gps";
 }
 
 struct FileCloser {
@@ -148,7 +149,11 @@ class Run {
   /// Watches the DUT; false (with status set) once it crashed or hung.
   bool dut_ok(Timestamp now);
   void progress(Duration scenario_t);
-  bool is_trigger(const ScheduledMessage& m) const { return m.device == trigger_device_; }
+  /// A message of the trigger device that still carries its tag (a fault such as garbage or
+  /// truncated destroys it: the DUT cannot answer such a message).
+  bool is_trigger(const ScheduledMessage& m) const {
+    return m.device == trigger_device_ && message(m).trigger_tag.has_value();
+  }
   const emulators::WireMessage& message(const ScheduledMessage& m) const {
     return streams_[m.device][m.index];
   }
@@ -160,6 +165,8 @@ class Run {
   std::vector<Line> lines_;  // one per device, then the DUT's output
 
   std::vector<std::vector<emulators::WireMessage>> streams_;
+  /// What each device's faults did: (device name, record), in device then fault order.
+  std::vector<std::pair<std::string, emulators::FaultRecord>> fault_records_;
   WireSchedule schedule_;
   std::uint32_t trigger_device_ = 0;
   std::unique_ptr<DutProcess> dut_;
@@ -177,13 +184,36 @@ class Run {
   Duration next_progress_ = kProgressPeriod;
 };
 
+/// A device's whole stream before faults, by its type.
+std::vector<emulators::WireMessage> generate_stream(const DeviceSpec& dev,
+                                                    const emulators::TruthTrajectory& truth,
+                                                    Duration duration, std::uint64_t seed) {
+  switch (dev.type) {
+    case DeviceSpec::Type::kMicrostrainGx3:
+      return emulators::generate_gx3(dev.gx3, truth, duration, seed);
+    case DeviceSpec::Type::kNmeaGps: return emulators::generate_gps(dev.gps, truth, duration, seed);
+    case DeviceSpec::Type::kDvl: return emulators::generate_dvl(dev.dvl, truth, duration, seed);
+    case DeviceSpec::Type::kEbimu:
+      return emulators::generate_ebimu(dev.ebimu, truth, duration, seed);
+    case DeviceSpec::Type::kEvologicsUsbl:
+      return emulators::generate_usbl(dev.usbl, truth, duration, seed);
+  }
+  throw std::logic_error("unknown device type");
+}
+
 void Run::generate() {
   for (std::uint32_t d = 0; d < sc_.devices.size(); ++d) {
     const auto& dev = sc_.devices[d];
     const auto seed = emulators::device_seed(sc_.seed, dev.name);
-    streams_.push_back(dev.type == DeviceSpec::Type::kMicrostrainGx3
-                           ? emulators::generate_gx3(dev.gx3, truth_, sc_.duration, seed)
-                           : emulators::generate_gps(dev.gps, truth_, sc_.duration, seed));
+    auto stream = generate_stream(dev, truth_, sc_.duration, seed);
+    if (!dev.faults.empty()) {
+      std::vector<emulators::FaultRecord> records;
+      stream = emulators::apply_faults(std::move(stream), dev.faults,
+                                       emulators::device_seed(sc_.seed, dev.name + "/faults"),
+                                       &records);
+      for (auto& r : records) fault_records_.push_back({dev.name, std::move(r)});
+    }
+    streams_.push_back(std::move(stream));
     if (dev.name == sc_.dut.trigger) trigger_device_ = d;
   }
   std::vector<StreamInput> inputs;
@@ -402,6 +432,9 @@ reports::RunRecord Run::execute() {
     rec.devices.push_back({dev.name, device_type_name(dev.type), lines_[d].path(), dev.baud,
                            emulators::device_seed(sc_.seed, dev.name), messages_sent_[d],
                            bytes_sent_[d], bytes_dropped_[d]});
+  }
+  for (const auto& [device, f] : fault_records_) {
+    rec.faults.push_back({device, f.kind, f.start_s, f.end_s, f.messages_affected});
   }
   const bool any_failed = std::any_of(rec.checks.begin(), rec.checks.end(),
                                       [](const auto& c) { return c.judged && !c.passed; });

@@ -89,6 +89,7 @@ void read_motion(const Field& f, emulators::AttitudeMotion& motion) {
 struct PathCursor {
   double speed_mps = 0.0;  ///< the vehicle starts at rest
   double depth_m = 0.0;
+  std::optional<double> seabed_m;  ///< vehicle.seabed, if given
 };
 
 Segment read_segment(const Field& item, PathCursor& cur) {
@@ -142,6 +143,13 @@ Segment read_segment(const Field& item, PathCursor& cur) {
       change.fail("this change takes the vehicle to a depth of " + std::string(buf) +
                   ", above the surface (depth must stay >= 0 m)");
     }
+    if (cur.seabed_m && to >= *cur.seabed_m) {
+      char buf[160];
+      std::snprintf(buf, sizeof buf,
+                    "this change takes the vehicle to a depth of %g m, at or below the seabed "
+                    "(vehicle.seabed %g m)", to, *cur.seabed_m);
+      change.fail(buf);
+    }
     cur.depth_m = std::max(to, 0.0);
   }
   cur.speed_mps = seg.speed_mps;
@@ -149,8 +157,8 @@ Segment read_segment(const Field& item, PathCursor& cur) {
 }
 
 void read_vehicle(const Field& f, Scenario& s) {
-  const MapReader m(f,
-                    {"name", "start", "max_accel", "arc_transition", "motion", "path", "devices"});
+  const MapReader m(f, {"name", "start", "max_accel", "arc_transition", "motion", "seabed", "path",
+                       "devices"});
   auto& t = s.trajectory;
   if (auto v = m.optional("name")) s.vehicle_name = v->identifier();
   if (auto v = m.optional("start")) read_start(*v, t);
@@ -166,6 +174,17 @@ void read_vehicle(const Field& f, Scenario& s) {
 
   PathCursor cur;
   cur.depth_m = t.start_p_n.z();
+  if (auto v = m.optional("seabed")) {
+    s.seabed_depth_m = v->quantity(Dimension::kLength, Bound::kPositive);
+    if (*s.seabed_depth_m <= cur.depth_m) {
+      char buf[160];
+      std::snprintf(buf, sizeof buf,
+                    "expected a seabed deeper than the start depth (%g m), got '%s'", cur.depth_m,
+                    v->node().Scalar().c_str());
+      v->fail(buf);
+    }
+    cur.seabed_m = s.seabed_depth_m;
+  }
   for (const Field& item : m.required("path").list("a list of path segments", 1)) {
     t.segments.push_back(read_segment(item, cur));
     s.segment_locations.push_back(location(s.file, item.mark()));
@@ -233,7 +252,14 @@ void read_dut(const Field& f, Scenario& s) {
     }
     if (auto b = o.optional("baud")) dut.output_baud = b->baud();
   }
-  dut.trigger = device_ref(m.required("trigger"), s);
+  const Field trigger = m.required("trigger");
+  dut.trigger = device_ref(trigger, s);
+  if (const DeviceSpec* d = find_device(s, dut.trigger);
+      d->type != DeviceSpec::Type::kMicrostrainGx3) {
+    trigger.fail("the trigger must be a microstrain-gx3-25 (only its packets carry the timer "
+                 "tag the DUT echoes); " + quoted(d->name) + " is a " +
+                 device_type_name(d->type));
+  }
   if (auto v = m.optional("startup")) dut.startup = v->duration(Bound::kNonNegative);
   if (auto v = m.optional("watchdog")) dut.watchdog = v->duration(Bound::kPositive);
 }

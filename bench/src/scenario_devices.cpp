@@ -3,7 +3,9 @@
 // rate and latency, and the GX3 and GPS error models.
 #include "scenario_devices.hpp"
 
+#include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <limits>
@@ -13,13 +15,33 @@
 #include <utility>
 #include <vector>
 
+#include "nav/common/units.hpp"
 #include "nav/protocols/microstrain_gx3.hpp"
 
 namespace nav::bench::detail {
 namespace {
 
-/// Worst-case bytes of one GPS epoch (GGA + RMC, each at most ~75 characters with CRLF).
+using namespace std::chrono_literals;
+
+// Worst-case bytes of one message per device type, for the line-budget check (documented in
+// docs/scenario.md, "The stream must fit on the line"). Estimates err on the long side.
+/// GPS epoch: GGA + RMC, each at most ~75 characters with CRLF.
 constexpr std::size_t kGpsEpochBytes = 150;
+/// Optional GPS sentences: $--VTG (~50 chars), $--HDT (~20), $--ZDA (~38), with CRLF.
+constexpr std::size_t kVtgBytes = 60, kHdtBytes = 24, kZdaBytes = 40;
+/// NavQuest NQ1 "$#NQ.RES" line: 47 tokens, at most its codec's line bound.
+constexpr std::size_t kNq1Bytes = 512;
+/// RDI PD0 ensemble: header with offsets (12) + fixed leader (59) + variable leader (65) +
+/// bottom track (81) + checksum (2) = 219, rounded up for an optional profile.
+constexpr std::size_t kPd0Bytes = 256;
+/// RDI PD6: :SA, :TS, :BI, :BS, :BE, :BD lines (and water-track :W* ones), ~64 chars each.
+constexpr std::size_t kPd6Bytes = 640;
+/// Water Linked A50: wrz velocity report plus a wrp dead-reckoning report, 256 chars each.
+constexpr std::size_t kA50Bytes = 512;
+/// EBIMU: characters per value ("-179.99," or "-2000.000,"), plus '*', CR, LF per line.
+constexpr std::size_t kEbimuBytesPerValue = 10;
+/// Evologics USBLLONG notification (17 fields) in its "+++AT:" wrapper, with CRLF.
+constexpr std::size_t kUsblBytes = 256;
 /// Bit times per byte on the line (8N1: start + 8 data + stop).
 constexpr double kBitsPerByte = 10.0;
 
@@ -92,7 +114,7 @@ void read_gps(const MapReader& m, const geodesy::Geodetic& datum, emulators::Gps
   c.datum_lon_rad = datum.lon_rad;
   c.datum_alt_m = datum.alt_m;
   if (auto v = m.optional("errors")) {
-    const MapReader e(*v, {"horizontal", "vertical", "velocity"});
+    const MapReader e(*v, {"horizontal", "vertical", "velocity", "heading"});
     if (auto x = e.optional("horizontal")) {
       c.horizontal_std_m = x->quantity(Dimension::kLength, Bound::kNonNegative);
     }
@@ -101,6 +123,9 @@ void read_gps(const MapReader& m, const geodesy::Geodetic& datum, emulators::Gps
     }
     if (auto x = e.optional("velocity")) {
       c.velocity_std_mps = x->quantity(Dimension::kSpeed, Bound::kNonNegative);
+    }
+    if (auto x = e.optional("heading")) {
+      c.heading_std_rad = x->quantity(Dimension::kAngle, Bound::kNonNegative);
     }
   }
   if (auto v = m.optional("talker")) {
@@ -125,47 +150,328 @@ int min_baud(double bits_per_s) {
   return 0;
 }
 
-DeviceSpec read_device(const Field& item, const geodesy::Geodetic& datum) {
-  const std::vector<std::pair<std::string, DeviceSpec::Type>> types{
-      {"microstrain-gx3-25", DeviceSpec::Type::kMicrostrainGx3},
-      {"nmea0183-gps", DeviceSpec::Type::kNmeaGps}};
+void read_gps_extras(const MapReader& m, emulators::GpsConfig& c) {
+  if (auto v = m.optional("sentences")) {
+    const std::vector<std::string> known{"GGA", "RMC", "VTG", "HDT", "ZDA"};
+    std::vector<std::string> seen;
+    for (const Field& item : v->list("a list of NMEA sentences (GGA, RMC, VTG, HDT, ZDA)", 1)) {
+      const std::string name = item.choice<std::string>(
+          {{"GGA", "GGA"}, {"RMC", "RMC"}, {"VTG", "VTG"}, {"HDT", "HDT"}, {"ZDA", "ZDA"}});
+      if (std::find(seen.begin(), seen.end(), name) != seen.end()) {
+        item.fail("sentence " + quoted(name) + " is listed twice");
+      }
+      seen.push_back(name);
+    }
+    for (const char* required : {"GGA", "RMC"}) {
+      if (std::find(seen.begin(), seen.end(), required) == seen.end()) {
+        v->fail(std::string("the sentences must include GGA and RMC (the fix and its "
+                            "velocity), missing ") + required);
+      }
+    }
+    const auto has = [&](const char* n) {
+      return std::find(seen.begin(), seen.end(), n) != seen.end();
+    };
+    c.vtg = has("VTG");
+    c.hdt = has("HDT");
+    c.zda = has("ZDA");
+  }
+  if (auto v = m.optional("reacquisition")) c.reacquisition = v->duration(Bound::kNonNegative);
+  if (c.heading_std_rad > 0.0 && !c.hdt) {
+    m.optional("errors")->peek("heading")->fail(
+        "a heading error needs HDT in sentences (only HDT carries a heading)");
+  }
+}
+
+/// Worst-case bytes of one GPS epoch with the configured sentences.
+std::size_t gps_epoch_bytes(const emulators::GpsConfig& c) {
+  return kGpsEpochBytes + (c.vtg ? kVtgBytes : 0) + (c.hdt ? kHdtBytes : 0) +
+         (c.zda ? kZdaBytes : 0);
+}
+
+double read_length_positive(const Field& f) {
+  return f.quantity(Dimension::kLength, Bound::kPositive);
+}
+
+void read_dvl(const MapReader& m, emulators::DvlConfig& c) {
+  c.protocol = m.required("protocol").choice<emulators::DvlProtocol>(
+      {{"navquest-nq1", emulators::DvlProtocol::kNavQuestNq1},
+       {"rdi-pd0", emulators::DvlProtocol::kRdiPd0},
+       {"rdi-pd6", emulators::DvlProtocol::kRdiPd6},
+       {"waterlinked-a50", emulators::DvlProtocol::kWaterLinkedA50}});
+  if (auto v = m.optional("beam_angle")) {
+    c.beam_angle_rad = v->quantity(Dimension::kAngle, Bound::kPositive);
+    if (c.beam_angle_rad >= units::deg_to_rad(60.0)) {
+      v->fail("expected a beam angle from vertical below 60 deg, got " +
+              quoted(v->node().Scalar()));
+    }
+  }
+  if (auto v = m.optional("max_altitude")) c.max_altitude_m = read_length_positive(*v);
+  if (auto v = m.optional("blanking")) {
+    c.blanking_m = v->quantity(Dimension::kLength, Bound::kNonNegative);
+    if (c.blanking_m >= c.max_altitude_m) {
+      char buf[120];
+      std::snprintf(buf, sizeof buf, "expected a blanking distance below max_altitude (%g m), "
+                    "got '%s'", c.max_altitude_m, v->node().Scalar().c_str());
+      v->fail(buf);
+    }
+  }
+  if (auto v = m.optional("errors")) {
+    const MapReader e(*v, {"velocity", "scale"});
+    if (auto x = e.optional("velocity")) {
+      c.velocity_std_mps = x->quantity(Dimension::kSpeed, Bound::kNonNegative);
+    }
+    if (auto x = e.optional("scale")) {
+      c.scale_factor = x->signed_ratio();
+      if (std::abs(c.scale_factor) >= 0.5) {
+        x->fail("expected a scale-factor error below 50 % in magnitude, got " +
+                quoted(x->node().Scalar()));
+      }
+    }
+  }
+  if (auto v = m.optional("beam_dropout")) c.beam_dropout_probability = v->probability();
+  if (auto v = m.optional("sound_speed")) {
+    c.sound_speed_mps = v->quantity(Dimension::kSpeed, Bound::kPositive);
+  }
+  if (auto v = m.optional("utc_start")) c.utc_start_unix_s = utc_seconds(*v);
+}
+
+/// Worst-case bytes of one DVL ping per protocol (docs/scenario.md).
+std::size_t dvl_bytes(emulators::DvlProtocol p) {
+  switch (p) {
+    case emulators::DvlProtocol::kNavQuestNq1: return kNq1Bytes;
+    case emulators::DvlProtocol::kRdiPd0: return kPd0Bytes;
+    case emulators::DvlProtocol::kRdiPd6: return kPd6Bytes;
+    case emulators::DvlProtocol::kWaterLinkedA50: return kA50Bytes;
+  }
+  return kNq1Bytes;
+}
+
+void read_ebimu(const MapReader& m, emulators::EbimuConfig& c) {
+  if (auto v = m.optional("output")) {
+    c.quaternion = v->choice<bool>({{"euler", false}, {"quaternion", true}});
+  }
+  if (auto v = m.optional("gyro")) c.gyro = v->boolean();
+  if (auto v = m.optional("accel")) c.accel = v->boolean();
+  if (auto v = m.optional("errors")) {
+    const MapReader e(*v, {"attitude", "heading_bias", "gyro", "accel"});
+    if (auto x = e.optional("attitude")) {
+      c.attitude_std_rad = x->quantity(Dimension::kAngle, Bound::kNonNegative);
+    }
+    if (auto x = e.optional("heading_bias")) {
+      c.attitude_bias_rad = x->quantity(Dimension::kAngle);
+    }
+    if (auto g = e.optional("gyro")) {
+      read_triad(*g, Dimension::kAngularRate, Dimension::kAngularRateWalk, c.gyro_errors);
+    }
+    if (auto a = e.optional("accel")) {
+      read_triad(*a, Dimension::kAcceleration, Dimension::kAccelerationWalk, c.accel_errors);
+    }
+  }
+}
+
+/// Worst-case bytes of one EBIMU line: '*', CR, LF and up to 10 characters per value.
+std::size_t ebimu_bytes(const emulators::EbimuConfig& c) {
+  const std::size_t values = (c.quaternion ? 4u : 3u) + (c.gyro ? 3u : 0u) + (c.accel ? 3u : 0u);
+  return 3 + kEbimuBytesPerValue * values;
+}
+
+void read_usbl(const MapReader& m, emulators::UsblConfig& c) {
+  if (auto v = m.optional("transceiver")) {
+    const MapReader t(*v, {"north", "east", "depth", "heading"});
+    if (auto x = t.optional("north")) c.transceiver_p_n.x() = x->quantity(Dimension::kLength);
+    if (auto x = t.optional("east")) c.transceiver_p_n.y() = x->quantity(Dimension::kLength);
+    if (auto x = t.optional("depth")) {
+      c.transceiver_p_n.z() = x->quantity(Dimension::kLength, Bound::kNonNegative);
+    }
+    if (auto x = t.optional("heading")) c.transceiver_yaw_rad = x->quantity(Dimension::kAngle);
+  }
+  if (auto v = m.optional("sound_speed")) {
+    c.sound_speed_mps = v->quantity(Dimension::kSpeed, Bound::kPositive);
+  }
+  if (auto v = m.optional("errors")) {
+    const MapReader e(*v, {"range", "range_per_distance", "angle"});
+    if (auto x = e.optional("range")) {
+      c.range_std_m = x->quantity(Dimension::kLength, Bound::kNonNegative);
+    }
+    if (auto x = e.optional("range_per_distance")) c.range_std_fraction = x->ratio();
+    if (auto x = e.optional("angle")) {
+      c.angle_std_rad = x->quantity(Dimension::kAngle, Bound::kNonNegative);
+    }
+  }
+  if (auto v = m.optional("outliers")) {
+    const MapReader o(*v, {"probability", "std"});
+    if (auto x = o.optional("probability")) c.outlier_probability = x->probability();
+    if (auto x = o.optional("std")) {
+      c.outlier_std_m = x->quantity(Dimension::kLength, Bound::kNonNegative);
+    }
+  }
+  if (auto v = m.optional("dropout")) c.dropout_probability = v->probability();
+  if (auto v = m.optional("angles_only")) c.angles_only = v->boolean();
+  if (auto v = m.optional("processing")) c.processing = v->duration(Bound::kNonNegative);
+  if (auto v = m.optional("utc_start")) c.utc_start_unix_s = utc_seconds(*v);
+}
+
+/// One item of a device's faults list.
+emulators::FaultSpec read_fault(const Field& item, Duration run) {
+  using Kind = emulators::FaultSpec::Kind;
+  const std::vector<std::pair<std::string, Kind>> kinds{
+      {"off", Kind::kOff},           {"stuck", Kind::kStuck},
+      {"garbage", Kind::kGarbage},   {"slow", Kind::kSlow},
+      {"delayed", Kind::kDelayed},   {"intermittent", Kind::kIntermittent},
+      {"checksum", Kind::kChecksum}, {"truncated", Kind::kTruncated},
+      {"byte_loss", Kind::kByteLoss}};
+  if (!item.node().IsMap()) item.fail("expected a fault map, got " + what_is(item.node()));
+  const auto kind_field = item.peek("kind");
+  if (!kind_field) item.fail("missing required key 'kind'");
+  emulators::FaultSpec f;
+  f.kind = kind_field->choice(kinds);
+  std::vector<std::string> keys{"kind", "from", "to"};
+  switch (f.kind) {
+    case Kind::kIntermittent:
+    case Kind::kChecksum:
+    case Kind::kTruncated:
+    case Kind::kByteLoss: keys.push_back("probability"); break;
+    case Kind::kSlow: keys.push_back("factor"); break;
+    case Kind::kDelayed: keys.push_back("delay"); break;
+    case Kind::kOff:
+    case Kind::kStuck:
+    case Kind::kGarbage: break;
+  }
+  const MapReader m(item, keys);
+  const Field from = m.required("from");
+  f.start = from.duration(Bound::kNonNegative);
+  const Field to = m.required("to");
+  f.end = to.duration(Bound::kPositive);
+  char buf[200];
+  if (f.start >= run) {
+    std::snprintf(buf, sizeof buf,
+                  "expected a fault start before the end of the scenario (duration %g s), "
+                  "got '%s'", to_seconds(run), from.node().Scalar().c_str());
+    from.fail(buf);
+  }
+  if (f.end > run) {
+    std::snprintf(buf, sizeof buf,
+                  "expected a fault end within the scenario (duration %g s), got '%s'",
+                  to_seconds(run), to.node().Scalar().c_str());
+    to.fail(buf);
+  }
+  if (f.end <= f.start) {
+    std::snprintf(buf, sizeof buf, "expected a fault end after its start (from %g s), got '%s'",
+                  to_seconds(f.start), to.node().Scalar().c_str());
+    to.fail(buf);
+  }
+  // Defaults per kind (docs/scenario.md).
+  switch (f.kind) {
+    case Kind::kIntermittent: f.probability = 0.5; break;
+    case Kind::kByteLoss: f.probability = 0.05; break;
+    case Kind::kChecksum:
+    case Kind::kTruncated: f.probability = 1.0; break;
+    default: break;
+  }
+  if (auto v = m.optional("probability")) f.probability = v->probability();
+  f.factor = 2.0;
+  if (auto v = m.optional("factor")) {
+    const std::string t = v->text("a factor >= 1 such as 4");
+    const auto n = parse_number(t);
+    if (!n || *n < 1.0) v->fail("expected a factor >= 1 such as 4, got " + quoted(t));
+    f.factor = *n;
+  }
+  if (f.kind == Kind::kDelayed) f.delay = m.required("delay").duration(Bound::kPositive);
+  return f;
+}
+
+DeviceSpec read_device(const Field& item, const Scenario& s) {
+  using Type = DeviceSpec::Type;
+  const std::vector<std::pair<std::string, Type>> types{
+      {"microstrain-gx3-25", Type::kMicrostrainGx3},
+      {"nmea0183-gps", Type::kNmeaGps},
+      {"dvl", Type::kDvl},
+      {"ebimu-9dof", Type::kEbimu},
+      {"evologics-usbl", Type::kEvologicsUsbl}};
   if (!item.node().IsMap()) item.fail("expected a device map, got " + what_is(item.node()));
   const auto type_field = item.peek("type");
-  if (!type_field) item.fail("missing required key 'type' (microstrain-gx3-25 or nmea0183-gps)");
+  if (!type_field) {
+    item.fail("missing required key 'type' (microstrain-gx3-25, nmea0183-gps, dvl, ebimu-9dof "
+              "or evologics-usbl)");
+  }
   DeviceSpec d;
   d.type = type_field->choice(types);
-  const bool gx3 = d.type == DeviceSpec::Type::kMicrostrainGx3;
-  const std::vector<std::string> common{"name", "type",    "port",  "baud",
-                                        "rate", "latency", "errors"};
-  std::vector<std::string> keys = common;
-  if (gx3) {
-    keys.insert(keys.end(), {"timer_start", "mag_field"});
-  } else {
-    keys.insert(keys.end(), {"talker", "utc_start", "max_depth_for_fix"});
+  std::vector<std::string> keys{"name", "type", "port", "baud", "rate", "errors", "faults"};
+  switch (d.type) {
+    case Type::kMicrostrainGx3:
+      keys.insert(keys.end(), {"latency", "timer_start", "mag_field"});
+      break;
+    case Type::kNmeaGps:
+      keys.insert(keys.end(), {"latency", "talker", "utc_start", "max_depth_for_fix",
+                               "sentences", "reacquisition"});
+      break;
+    case Type::kDvl:
+      keys.insert(keys.end(), {"latency", "protocol", "beam_angle", "max_altitude", "blanking",
+                               "beam_dropout", "sound_speed", "utc_start"});
+      break;
+    case Type::kEbimu: keys.insert(keys.end(), {"latency", "output", "gyro", "accel"}); break;
+    case Type::kEvologicsUsbl:
+      keys.insert(keys.end(), {"transceiver", "sound_speed", "outliers", "dropout",
+                               "angles_only", "processing", "utc_start"});
+      break;
   }
   const MapReader m(item, keys);
 
   d.name = m.optional("name") ? m.required("name").identifier() : type_field->node().Scalar();
   if (auto v = m.optional("port")) d.port = v->port();
-  d.baud = gx3 ? 115200 : 9600;
+  // Defaults per type: baud, rate, latency.
+  double rate_hz = 0.0;
+  Duration latency{0};
+  switch (d.type) {
+    case Type::kMicrostrainGx3: d.baud = 115200; rate_hz = 100.0; break;
+    case Type::kNmeaGps: d.baud = 9600; rate_hz = 1.0; latency = 50ms; break;
+    case Type::kDvl: d.baud = 115200; rate_hz = 5.0; break;
+    case Type::kEbimu: d.baud = 115200; rate_hz = 100.0; break;
+    case Type::kEvologicsUsbl: d.baud = 19200; rate_hz = 1.0; break;
+  }
   if (auto v = m.optional("baud")) d.baud = v->baud();
-  double rate_hz = gx3 ? 100.0 : 1.0;
   if (auto v = m.optional("rate")) rate_hz = v->rate();
-  Duration latency = gx3 ? Duration{0} : Duration{std::chrono::milliseconds(50)};
   if (auto v = m.optional("latency")) latency = v->duration(Bound::kNonNegative);
 
-  if (gx3) {
-    d.gx3.rate_hz = rate_hz;
-    d.gx3.latency = latency;
-    read_gx3(m, d.gx3);
-  } else {
-    d.gps.rate_hz = rate_hz;
-    d.gps.latency = latency;
-    read_gps(m, datum, d.gps);
+  std::size_t bytes = 0;
+  switch (d.type) {
+    case Type::kMicrostrainGx3:
+      d.gx3.rate_hz = rate_hz;
+      d.gx3.latency = latency;
+      read_gx3(m, d.gx3);
+      bytes = protocols::gx3::kAccelRateMagLength;
+      break;
+    case Type::kNmeaGps:
+      d.gps.rate_hz = rate_hz;
+      d.gps.latency = latency;
+      read_gps(m, s.datum, d.gps);
+      read_gps_extras(m, d.gps);
+      bytes = gps_epoch_bytes(d.gps);
+      break;
+    case Type::kDvl:
+      d.dvl.rate_hz = rate_hz;
+      d.dvl.latency = latency;
+      read_dvl(m, d.dvl);
+      if (!s.seabed_depth_m) {
+        type_field->fail("a dvl needs the seabed: add 'seabed: <depth>' to vehicle");
+      }
+      d.dvl.seabed_depth_m = *s.seabed_depth_m;
+      bytes = dvl_bytes(d.dvl.protocol);
+      break;
+    case Type::kEbimu:
+      d.ebimu.rate_hz = rate_hz;
+      d.ebimu.latency = latency;
+      read_ebimu(m, d.ebimu);
+      bytes = ebimu_bytes(d.ebimu);
+      break;
+    case Type::kEvologicsUsbl:
+      d.usbl.rate_hz = rate_hz;
+      read_usbl(m, d.usbl);
+      bytes = kUsblBytes;
+      break;
   }
 
   // Does the stream fit on the line?
-  const std::size_t bytes = gx3 ? protocols::gx3::kAccelRateMagLength : kGpsEpochBytes;
   const double bits_per_s = static_cast<double>(bytes) * rate_hz * kBitsPerByte;
   if (bits_per_s > d.baud) {
     std::optional<Field> at = m.optional("baud");
@@ -177,6 +483,12 @@ DeviceSpec read_device(const Field& item, const geodesy::Geodetic& datum) {
                   d.baud, rate_hz, bytes, bits_per_s, kBitsPerByte, min_baud(bits_per_s));
     (at ? *at : item).fail(buf);
   }
+
+  if (auto v = m.optional("faults")) {
+    for (const Field& f : v->list("a list of faults", 0)) {
+      d.faults.push_back(read_fault(f, s.duration));
+    }
+  }
   return d;
 }
 
@@ -186,7 +498,7 @@ void read_devices(const Field& f, Scenario& s) {
   std::map<std::string, int> names;          // name -> 1-based line of its device
   std::map<std::string, std::string> ports;  // device path -> device name
   for (const Field& item : f.list("a list of devices", 1)) {
-    DeviceSpec d = read_device(item, s.datum);
+    DeviceSpec d = read_device(item, s);
     const Field where = item.peek("name") ? *item.peek("name") : item;
     if (d.name == "output") {
       where.fail("the device name 'output' is reserved for the DUT output ({port:output})");
@@ -208,3 +520,18 @@ void read_devices(const Field& f, Scenario& s) {
 }
 
 }  // namespace nav::bench::detail
+
+namespace nav::bench {
+
+const char* device_type_name(DeviceSpec::Type t) {
+  switch (t) {
+    case DeviceSpec::Type::kMicrostrainGx3: return "microstrain-gx3-25";
+    case DeviceSpec::Type::kNmeaGps: return "nmea0183-gps";
+    case DeviceSpec::Type::kDvl: return "dvl";
+    case DeviceSpec::Type::kEbimu: return "ebimu-9dof";
+    case DeviceSpec::Type::kEvologicsUsbl: return "evologics-usbl";
+  }
+  return "?";
+}
+
+}  // namespace nav::bench

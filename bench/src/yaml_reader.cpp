@@ -120,6 +120,29 @@ double Field::ratio() const {
   return *v;
 }
 
+double Field::signed_ratio() const {
+  const std::string t = text("a ratio such as '2 %' or 0.02");
+  const auto v = parse_ratio(t);
+  if (!v) fail(v.error().detail);
+  return *v;
+}
+
+double Field::probability() const {
+  const std::string t = text("a probability from 0 to 1 such as 0.3 or '30 %'");
+  const auto v = parse_ratio(t);
+  if (!v || *v < 0.0 || *v > 1.0) {
+    fail("expected a probability from 0 to 1 such as 0.3 or '30 %', got " + quoted(t));
+  }
+  return *v;
+}
+
+bool Field::boolean() const {
+  const std::string t = text("true or false");
+  if (t == "true") return true;
+  if (t == "false") return false;
+  fail("expected true or false, got " + quoted(t));
+}
+
 double Field::degrees(std::string_view what, double limit_deg) const {
   const std::string expected = std::string(what) +
                                " in degrees such as 36.3833 or '36.3833 deg', from " +

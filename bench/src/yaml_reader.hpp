@@ -96,6 +96,15 @@ class Field {
   /// A plain number or a ratio in percent ("2 %"), >= 0.
   double ratio() const;
 
+  /// A plain number or a ratio in percent ("-0.5 %"), any sign.
+  double signed_ratio() const;
+
+  /// A probability: a plain number or a percentage in [0, 1] ("0.3", "30 %").
+  double probability() const;
+
+  /// A YAML boolean: true or false.
+  bool boolean() const;
+
   /// An angle in [-limit_deg, limit_deg], written as plain degrees ("36.38") or as an angle
   /// quantity ("36.38 deg", "0.635 rad") [rad].
   double degrees(std::string_view what, double limit_deg) const;

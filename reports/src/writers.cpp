@@ -90,6 +90,14 @@ void write_summary(const RunRecord& r, const std::string& dir) {
                             {"messages", d.messages}, {"bytes", d.bytes},
                             {"bytes_dropped", d.bytes_dropped}});
   }
+  j["faults"] = nlohmann::json::array();
+  for (const auto& fr : r.faults) {
+    j["faults"].push_back({{"device", fr.device},
+                           {"kind", fr.kind},
+                           {"start_s", fr.start_s},
+                           {"end_s", fr.end_s},
+                           {"messages_affected", fr.messages_affected}});
+  }
   File f(dir, "summary.json");
   *f << j.dump(2) << '\n';
 }
@@ -108,7 +116,11 @@ void write_junit(const RunRecord& r, const std::string& dir) {
     << "\" time=\"" << r.wall_time_s << "\">\n"
     << "  <properties><property name=\"seed\" value=\"" << r.seed << "\"/>"
     << "<property name=\"mode\" value=\"" << r.mode << "\"/>"
-    << "<property name=\"verdict\" value=\"" << xml_escape(r.verdict) << "\"/></properties>\n";
+    << "<property name=\"verdict\" value=\"" << xml_escape(r.verdict) << "\"/>";
+  for (const auto& fr : r.faults) {
+    o << "<property name=\"fault\" value=\"" << xml_escape(fault_text(fr)) << "\"/>";
+  }
+  o << "</properties>\n";
   for (const auto& c : r.checks) {
     o << "  <testcase classname=\"" << xml_escape(r.scenario_name) << "\" name=\""
       << xml_escape(c.name) << "\">";
@@ -184,6 +196,14 @@ void write_reports(const RunRecord& r, const std::string& dir) {
   write_latency(r, dir);
 }
 
+std::string fault_text(const FaultRow& f) {
+  char line[256];
+  std::snprintf(line, sizeof line, "%s %s %.1f\u2013%.1f s, %zu message%s", f.device.c_str(),
+                f.kind.c_str(), f.start_s, f.end_s, f.messages_affected,
+                f.messages_affected == 1 ? "" : "s");
+  return line;
+}
+
 std::string verdict_text(const RunRecord& r) {
   std::ostringstream o;
   char line[256];
@@ -201,6 +221,7 @@ std::string verdict_text(const RunRecord& r) {
     std::snprintf(line, sizeof line, "  %s  %-17s %s\n", tag, c.name.c_str(), c.detail.c_str());
     o << line;
   }
+  for (const auto& f : r.faults) o << "  FAULT " << fault_text(f) << '\n';
   const auto ms = [](double s) { return s * 1e3; };
   if (r.bench_lateness.count > 0) {
     std::snprintf(line, sizeof line,

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <regex>
 #include <utility>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -118,6 +119,94 @@ TEST(NavbenchRun, SlowDutGetsItsDeadlineMissesCounted) {
   // later than 20 ms, so every trigger is a miss (late or never answered).
   EXPECT_EQ((*d)["value"].get<double>(), 400.0);
   EXPECT_GE(s["dut_latency"]["p50_ms"].get<double>(), 50.0);
+}
+
+TEST(NavbenchRun, AllDevicesScenarioPassesInRealtime) {
+  const auto dir = fresh_dir("all-devices-rt");
+  const auto r = run_navbench(
+      {"run", source_path("scenarios/all-devices.yaml"), "--out", "run"}, dir);
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("VERDICT: PASS"), std::string::npos) << r.out;
+  const auto s = summary(dir / "run");
+  ASSERT_EQ(s["devices"].size(), 8u);
+  for (const auto& d : s["devices"]) {
+    EXPECT_GT(d["messages"].get<int>(), 0) << d["name"];
+    EXPECT_EQ(d["bytes_dropped"].get<int>(), 0) << d["name"];
+  }
+  EXPECT_TRUE(s["faults"].empty());
+  // Every emulated device is on the wire.
+  const std::string tx = slurp(dir / "run" / "capture-tx.log");
+  for (const char* port :
+       {"ahrs", "gps", "dvl_nq1", "dvl_pd0", "dvl_pd6", "dvl_a50", "imu", "usbl"}) {
+    EXPECT_NE(tx.find(std::string(") ") + port + " "), std::string::npos) << port;
+  }
+}
+
+TEST(NavbenchRun, AllDevicesLockstepRunsAreBitReproducible) {
+  const auto dir = fresh_dir("all-devices-ls");
+  const auto scenario = source_path("scenarios/all-devices.yaml");
+  const auto a = run_navbench({"run", scenario, "--mode", "lockstep", "--out", "a"}, dir);
+  const auto b = run_navbench({"run", scenario, "--mode", "lockstep", "--out", "b"}, dir);
+  ASSERT_EQ(a.exit_code, 0) << a.out << a.err;
+  ASSERT_EQ(b.exit_code, 0) << b.out << b.err;
+  const std::string ea = slurp(dir / "a" / "estimate.tum");
+  EXPECT_GT(ea.size(), 100000u);
+  EXPECT_EQ(ea, slurp(dir / "b" / "estimate.tum"));
+  EXPECT_EQ(slurp(dir / "a" / "capture-tx.log"), slurp(dir / "b" / "capture-tx.log"));
+  EXPECT_EQ(summary(dir / "a")["dut"]["answers"], 2500);
+}
+
+/// Capture lines "(<sec>.<nsec>) <port> <hex>" of one port: their times [s].
+std::vector<double> capture_times(const std::string& capture, const std::string& port) {
+  std::vector<double> t;
+  const std::regex line(R"(\((\d+\.\d{9})\) (\S+) [0-9A-F]+\n)");
+  for (std::sregex_iterator it(capture.begin(), capture.end(), line), end; it != end; ++it) {
+    if ((*it)[2] == port) t.push_back(std::stod((*it)[1]));
+  }
+  return t;
+}
+
+TEST(NavbenchRun, FaultScenarioReportsEveryFaultAndNavdSurvives) {
+  const auto dir = fresh_dir("faults");
+  const auto r = run_navbench(
+      {"run", source_path("scenarios/faults-gps-ahrs.yaml"), "--out", "run"}, dir);
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  const auto s = summary(dir / "run");
+  EXPECT_TRUE((*check(s, "dut_alive"))["passed"].get<bool>());
+  // Every fault of the scenario, in device then file order, each with an effect.
+  const std::vector<std::pair<std::string, std::string>> expected{
+      {"ahrs", "off"},      {"ahrs", "slow"},      {"ahrs", "intermittent"},
+      {"gps", "checksum"},  {"gps", "truncated"},  {"gps", "byte_loss"},
+      {"gps", "garbage"},   {"gps", "stuck"},      {"gps", "delayed"},
+      {"gps", "off"}};
+  ASSERT_EQ(s["faults"].size(), expected.size()) << s["faults"].dump();
+  std::size_t removed = 0;
+  for (std::size_t i = 0; i < expected.size(); ++i) {
+    const auto& f = s["faults"][i];
+    EXPECT_EQ(f["device"], expected[i].first) << i;
+    EXPECT_EQ(f["kind"], expected[i].second) << i;
+    EXPECT_GT(f["messages_affected"].get<int>(), 0) << f.dump();
+    EXPECT_NE(r.out.find("  FAULT " + expected[i].first + " " + expected[i].second + " "),
+              std::string::npos) << r.out;
+    if (f["device"] == "ahrs") removed += f["messages_affected"].get<std::size_t>();
+  }
+  EXPECT_EQ(s["faults"][0]["start_s"], 4.0);
+  EXPECT_EQ(s["faults"][0]["end_s"], 5.0);
+  EXPECT_EQ(s["faults"][0]["messages_affected"], 100);
+  // The GX3 faults only remove packets: every remaining one is a trigger.
+  EXPECT_EQ(s["dut"]["triggers_sent"].get<std::size_t>(), 2000 - removed);
+  EXPECT_NE(slurp(dir / "run" / "junit.xml").find("<property name=\"fault\" value=\"ahrs off "),
+            std::string::npos);
+
+  // Nothing on the AHRS line inside its `off` window, nor on the GPS line inside its own.
+  const std::string tx = slurp(dir / "run" / "capture-tx.log");
+  const auto ahrs = capture_times(tx, "ahrs");
+  EXPECT_EQ(ahrs.size(), 2000 - removed);
+  for (const double t : ahrs) EXPECT_FALSE(t > 4.001 && t < 4.999) << "ahrs at " << t;
+  const auto gps = capture_times(tx, "gps");
+  EXPECT_FALSE(gps.empty());
+  for (const double t : gps) EXPECT_FALSE(t > 16.1 && t < 18.0) << "gps at " << t;
+  EXPECT_TRUE(std::any_of(ahrs.begin(), ahrs.end(), [](double t) { return t > 5.0 && t < 5.1; }));
 }
 
 /// The "# expect:" and "# line:" header comments of a malformed scenario file.

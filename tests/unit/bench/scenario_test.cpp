@@ -251,6 +251,153 @@ TEST(LoadScenario, OptionalFieldsAndAlternativeSpellings) {
   EXPECT_EQ(s->checks[2].max_misses, 0);
 }
 
+TEST(LoadScenario, NewDeviceTypesAndFaultsInSi) {
+  std::string text = kMinimal;
+  text.replace(text.find("  path:"), 0, "  seabed: 15 m\n");
+  text.replace(text.find("dut:"), 0,
+               "    - name: gps\n"
+               "      type: nmea0183-gps\n"
+               "      sentences: [GGA, RMC, VTG, HDT, ZDA]\n"
+               "      reacquisition: 5 s\n"
+               "      errors: {heading: 0.5 deg}\n"
+               "      faults:\n"
+               "        - {kind: checksum, from: 1 s, to: 2 s}\n"
+               "        - {kind: delayed, from: 2 s, to: 3 s, delay: 200 ms}\n"
+               "        - {kind: slow, from: 3 s, to: 10 s, factor: 4}\n"
+               "        - {kind: byte_loss, from: 0 s, to: 1 s}\n"
+               "        - {kind: intermittent, from: 4 s, to: 5 s, probability: 30 %}\n"
+               "    - {name: dvl1, type: dvl, protocol: navquest-nq1}\n"
+               "    - name: dvl2\n"
+               "      type: dvl\n"
+               "      protocol: rdi-pd6\n"
+               "      rate: 8 Hz\n"
+               "      latency: 20 ms\n"
+               "      beam_angle: 30 deg\n"
+               "      max_altitude: 80 m\n"
+               "      blanking: 0.5 m\n"
+               "      errors: {velocity: 0.002 m/s, scale: -0.5 %}\n"
+               "      beam_dropout: 0.1\n"
+               "      sound_speed: 1480 m/s\n"
+               "    - name: imu\n"
+               "      type: ebimu-9dof\n"
+               "      output: quaternion\n"
+               "      gyro: true\n"
+               "      accel: false\n"
+               "      rate: 50 Hz\n"
+               "      errors: {attitude: 0.1 deg, heading_bias: -2 deg,\n"
+               "               gyro: {white: 0.01 deg/s}, accel: {bias: 1 mg}}\n"
+               "    - name: usbl\n"
+               "      type: evologics-usbl\n"
+               "      transceiver: {north: 10 m, east: -5 m, depth: 2 m, heading: 90 deg}\n"
+               "      sound_speed: 1490 m/s\n"
+               "      errors: {range: 0.1 m, range_per_distance: 0.5 %, angle: 0.5 deg}\n"
+               "      outliers: {probability: 0.05, std: 10 m}\n"
+               "      dropout: 10 %\n"
+               "      angles_only: true\n"
+               "      processing: 150 ms\n");
+  const auto s = load_scenario(write_temp("new_devices.yaml", text));
+  ASSERT_TRUE(s) << s.error().detail;
+  ASSERT_EQ(s->devices.size(), 6u);
+  ASSERT_TRUE(s->seabed_depth_m);
+  EXPECT_EQ(*s->seabed_depth_m, 15.0);
+  EXPECT_TRUE(s->devices[0].faults.empty());
+
+  const DeviceSpec& gps = s->devices[1];
+  EXPECT_TRUE(gps.gps.vtg && gps.gps.hdt && gps.gps.zda);
+  EXPECT_EQ(gps.gps.reacquisition, 5s);
+  EXPECT_NEAR(gps.gps.heading_std_rad, 0.5 * kDeg, 1e-15);
+  using FK = emulators::FaultSpec::Kind;
+  ASSERT_EQ(gps.faults.size(), 5u);
+  EXPECT_EQ(gps.faults[0].kind, FK::kChecksum);
+  EXPECT_EQ(gps.faults[0].start, 1s);
+  EXPECT_EQ(gps.faults[0].end, 2s);
+  EXPECT_EQ(gps.faults[0].probability, 1.0);  // default for checksum
+  EXPECT_EQ(gps.faults[1].kind, FK::kDelayed);
+  EXPECT_EQ(gps.faults[1].delay, 200ms);
+  EXPECT_EQ(gps.faults[2].kind, FK::kSlow);
+  EXPECT_EQ(gps.faults[2].factor, 4.0);
+  EXPECT_EQ(gps.faults[3].kind, FK::kByteLoss);
+  EXPECT_EQ(gps.faults[3].start, 0s);
+  EXPECT_EQ(gps.faults[3].probability, 0.05);
+  EXPECT_EQ(gps.faults[4].kind, FK::kIntermittent);
+  EXPECT_DOUBLE_EQ(gps.faults[4].probability, 0.3);
+
+  const DeviceSpec& dvl1 = s->devices[2];  // defaults
+  EXPECT_EQ(dvl1.type, DeviceSpec::Type::kDvl);
+  EXPECT_EQ(dvl1.dvl.protocol, emulators::DvlProtocol::kNavQuestNq1);
+  EXPECT_EQ(dvl1.baud, 115200);
+  EXPECT_EQ(dvl1.dvl.rate_hz, 5.0);
+  EXPECT_EQ(dvl1.dvl.latency, 0ns);
+  EXPECT_EQ(dvl1.dvl.seabed_depth_m, 15.0);
+  EXPECT_EQ(dvl1.dvl.max_altitude_m, 50.0);
+  const DeviceSpec& dvl2 = s->devices[3];
+  EXPECT_EQ(dvl2.dvl.protocol, emulators::DvlProtocol::kRdiPd6);
+  EXPECT_EQ(dvl2.dvl.rate_hz, 8.0);
+  EXPECT_EQ(dvl2.dvl.latency, 20ms);
+  EXPECT_NEAR(dvl2.dvl.beam_angle_rad, 30 * kDeg, 1e-15);
+  EXPECT_EQ(dvl2.dvl.max_altitude_m, 80.0);
+  EXPECT_EQ(dvl2.dvl.blanking_m, 0.5);
+  EXPECT_NEAR(dvl2.dvl.velocity_std_mps, 0.002, 1e-15);
+  EXPECT_DOUBLE_EQ(dvl2.dvl.scale_factor, -0.005);
+  EXPECT_DOUBLE_EQ(dvl2.dvl.beam_dropout_probability, 0.1);
+  EXPECT_EQ(dvl2.dvl.sound_speed_mps, 1480.0);
+
+  const DeviceSpec& imu = s->devices[4];
+  EXPECT_EQ(imu.type, DeviceSpec::Type::kEbimu);
+  EXPECT_EQ(imu.baud, 115200);
+  EXPECT_EQ(imu.ebimu.rate_hz, 50.0);
+  EXPECT_TRUE(imu.ebimu.quaternion);
+  EXPECT_TRUE(imu.ebimu.gyro);
+  EXPECT_FALSE(imu.ebimu.accel);
+  EXPECT_NEAR(imu.ebimu.attitude_std_rad, 0.1 * kDeg, 1e-15);
+  EXPECT_NEAR(imu.ebimu.attitude_bias_rad, -2 * kDeg, 1e-15);
+  EXPECT_NEAR(imu.ebimu.gyro_errors.white_std, 0.01 * kDeg, 1e-15);
+  EXPECT_NEAR(imu.ebimu.accel_errors.bias, kMg, 1e-15);
+
+  const DeviceSpec& usbl = s->devices[5];
+  EXPECT_EQ(usbl.type, DeviceSpec::Type::kEvologicsUsbl);
+  EXPECT_EQ(usbl.baud, 19200);
+  EXPECT_EQ(usbl.usbl.rate_hz, 1.0);
+  EXPECT_EQ(usbl.usbl.transceiver_p_n, Vec3(10.0, -5.0, 2.0));
+  EXPECT_NEAR(usbl.usbl.transceiver_yaw_rad, kPi / 2, 1e-15);
+  EXPECT_EQ(usbl.usbl.sound_speed_mps, 1490.0);
+  EXPECT_EQ(usbl.usbl.range_std_m, 0.1);
+  EXPECT_DOUBLE_EQ(usbl.usbl.range_std_fraction, 0.005);
+  EXPECT_NEAR(usbl.usbl.angle_std_rad, 0.5 * kDeg, 1e-15);
+  EXPECT_DOUBLE_EQ(usbl.usbl.outlier_probability, 0.05);
+  EXPECT_EQ(usbl.usbl.outlier_std_m, 10.0);
+  EXPECT_DOUBLE_EQ(usbl.usbl.dropout_probability, 0.1);
+  EXPECT_TRUE(usbl.usbl.angles_only);
+  EXPECT_EQ(usbl.usbl.processing, 150ms);
+
+  EXPECT_STREQ(device_type_name(DeviceSpec::Type::kDvl), "dvl");
+  EXPECT_STREQ(device_type_name(DeviceSpec::Type::kEbimu), "ebimu-9dof");
+  EXPECT_STREQ(device_type_name(DeviceSpec::Type::kEvologicsUsbl), "evologics-usbl");
+}
+
+TEST(LoadScenario, GpsDefaultsToGgaAndRmc) {
+  std::string text = kMinimal;
+  text.replace(text.find("dut:"), 0, "    - {name: gps, type: nmea0183-gps}\n");
+  const auto s = load_scenario(write_temp("gps_default.yaml", text));
+  ASSERT_TRUE(s) << s.error().detail;
+  const auto& g = s->devices.at(1).gps;
+  EXPECT_FALSE(g.vtg || g.hdt || g.zda);
+  EXPECT_EQ(g.reacquisition, 0s);
+  EXPECT_EQ(g.heading_std_rad, 0.0);
+}
+
+TEST(LoadScenario, ByteBudgetCountsOptionalSentences) {
+  // 2 Hz x (150 + 60 + 24 + 40) bytes x 10 bits = 5480 bit/s fits 9600; at 4 Hz it does not.
+  std::string text = kMinimal;
+  text.replace(text.find("dut:"), 0,
+               "    - {name: gps, type: nmea0183-gps, rate: 4 Hz, baud: 9600,\n"
+               "       sentences: [GGA, RMC, VTG, HDT, ZDA]}\n");
+  const auto s = load_scenario(write_temp("gps_budget.yaml", text));
+  ASSERT_FALSE(s);
+  EXPECT_NE(s.error().detail.find("too low for 4 Hz x 274-byte messages"), std::string::npos)
+      << s.error().detail;
+}
+
 TEST(LoadScenario, MissingFileSaysWhy) {
   const std::string path = kSourceDir + "/scenarios/no-such-scenario.yaml";
   const auto s = load_scenario(path);

@@ -11,6 +11,10 @@
 #include "nav/common/result.hpp"
 #include "nav/common/time.hpp"
 #include "nav/emulators/device.hpp"
+#include "nav/emulators/dvl_emulator.hpp"
+#include "nav/emulators/ebimu_emulator.hpp"
+#include "nav/emulators/faults.hpp"
+#include "nav/emulators/usbl_emulator.hpp"
 #include "nav/emulators/truth.hpp"
 
 namespace nav::bench {
@@ -19,14 +23,22 @@ enum class TimeMode { kRealtime, kLockstep };
 
 /// One emulated device on its own serial line.
 struct DeviceSpec {
-  enum class Type { kMicrostrainGx3, kNmeaGps };
+  enum class Type { kMicrostrainGx3, kNmeaGps, kDvl, kEbimu, kEvologicsUsbl };
   std::string name;     ///< unique in the scenario; used in "{port:NAME}" and captures
   Type type = Type::kMicrostrainGx3;
   std::string port = "pty";  ///< "pty" or a device path such as /dev/ttyUSB0
   int baud = 115200;         ///< line rate [bit/s]; 8N1 = 10 bits per byte
   emulators::Gx3Config gx3;  ///< when type == kMicrostrainGx3
   emulators::GpsConfig gps;  ///< when type == kNmeaGps (datum filled from the scenario)
+  emulators::DvlConfig dvl;  ///< when type == kDvl (seabed from vehicle.seabed)
+  emulators::EbimuConfig ebimu;  ///< when type == kEbimu
+  emulators::UsblConfig usbl;    ///< when type == kEvologicsUsbl
+  /// Faults applied to the encoded stream, in file order (windows inside [0, duration)).
+  std::vector<emulators::FaultSpec> faults;
 };
+
+/// The scenario name of a device type ("microstrain-gx3-25", "dvl", ...).
+const char* device_type_name(DeviceSpec::Type t);
 
 /// The DUT and how to talk to it.
 struct DutSpec {
@@ -60,6 +72,7 @@ struct Scenario {
   TimeMode mode = TimeMode::kRealtime;
   geodesy::Geodetic datum;
   std::string vehicle_name = "vehicle";
+  std::optional<double> seabed_depth_m;  ///< vehicle.seabed: flat seabed depth [m] (DVLs)
   emulators::TrajectorySpec trajectory;
   std::vector<DeviceSpec> devices;
   DutSpec dut;

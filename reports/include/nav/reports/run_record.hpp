@@ -70,6 +70,17 @@ struct DeviceRow {
   std::size_t messages = 0, bytes = 0, bytes_dropped = 0;
 };
 
+/// What one scheduled fault of a device did (emulators::FaultRecord plus the device).
+struct FaultRow {
+  std::string device;            ///< device name
+  std::string kind;              ///< "off", "checksum", ... (as in the scenario)
+  double start_s = 0.0, end_s = 0.0;  ///< window [s], scenario time
+  std::size_t messages_affected = 0;  ///< messages removed or altered
+};
+
+/// "gps checksum 10.0–15.0 s, 4 messages": one fault in one line (verdict screen, junit).
+std::string fault_text(const FaultRow& f);
+
 struct RunRecord {
   std::string scenario_name, scenario_file, mode, run_dir;
   std::uint64_t seed = 0;
@@ -85,6 +96,7 @@ struct RunRecord {
   double lateness_budget_p99_s = 0.0;
   Stats dut_latency;                ///< realtime: judged latency; lockstep: compute time
   std::vector<DeviceRow> devices;
+  std::vector<FaultRow> faults;     ///< every fault of every device, device then file order
   std::vector<TruthRow> truth;
   std::vector<AlignedSample> aligned;
   std::vector<LatencyRow> latency;
