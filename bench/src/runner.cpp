@@ -179,6 +179,13 @@ class Run {
   std::vector<std::size_t> bytes_sent_, bytes_dropped_, messages_sent_;
   std::vector<reports::LatenessRow> lateness_;
   std::size_t triggers_sent_ = 0;
+  std::vector<Timestamp> sent_wire_ends_;  // of the triggers sent, in send order
+  std::uint64_t last_trigger_tag_ = 0;
+  void note_trigger_sent(const TriggerRecord& tr) {
+    ++triggers_sent_;
+    sent_wire_ends_.push_back(tr.wire_end);
+    last_trigger_tag_ = tr.tag;
+  }
   bool crashed_ = false, hung_ = false;
   std::string dut_status_;
   Duration next_progress_ = kProgressPeriod;
@@ -256,19 +263,19 @@ bool Run::dut_ok(Timestamp now) {
     dut_status_ = "crashed: " + dut_->exit_description() + t;
     return false;
   }
-  const std::size_t answered = reader_->answer_count();
-  if (answered < triggers_sent_) {
-    // The oldest trigger still waiting (answers arrive in trigger order).
-    const Timestamp waiting_since =
-        std::max(reader_->last_answer_time(), triggers_[std::min(answered, triggers_.size() - 1)].wire_end);
-    if (now - waiting_since > sc_.dut.watchdog) {
-      hung_ = true;
-      char t[128];
-      std::snprintf(t, sizeof t, "hung: no solution for %.1f s at t=%.3f s",
-                    to_seconds(now - waiting_since), to_seconds(now - t0_));
-      dut_status_ = t;
-      return false;
-    }
+  // Hung: a trigger sent after the DUT's latest solution has waited longer than the
+  // watchdog. A trigger the DUT rightly drops (it arrived damaged) is followed by solutions
+  // to later triggers, so it does not count.
+  const Timestamp last_answer = reader_->last_answer_time();
+  const auto waiting = std::partition_point(sent_wire_ends_.begin(), sent_wire_ends_.end(),
+                                            [&](Timestamp w) { return w <= last_answer; });
+  if (waiting != sent_wire_ends_.end() && now - *waiting > sc_.dut.watchdog) {
+    hung_ = true;
+    char t[128];
+    std::snprintf(t, sizeof t, "hung: no solution for %.1f s at t=%.3f s",
+                  to_seconds(now - std::max(*waiting, last_answer)), to_seconds(now - t0_));
+    dut_status_ = t;
+    return false;
   }
   return true;
 }
@@ -315,7 +322,7 @@ void Run::run_realtime() {
         auto& tr = triggers_[trigger_of_message_.at(c.message)];
         tr.sent = true;
         tr.wire_end = done;
-        ++triggers_sent_;
+        note_trigger_sent(tr);
       }
     }
   }
@@ -352,7 +359,7 @@ void Run::run_lockstep() {
     auto& tr = triggers_[trigger_of_message_.at(k)];
     tr.sent = true;
     tr.wire_end = monotonic_now();
-    ++triggers_sent_;
+    note_trigger_sent(tr);
     // Barrier: the next trigger leaves only once this one is answered.
     const Timestamp deadline = tr.wire_end + sc_.dut.watchdog;
     while (!reader_->wait_for(tr.tag, std::min(deadline, monotonic_now() + kCheckPeriod))) {
@@ -362,13 +369,17 @@ void Run::run_lockstep() {
 }
 
 void Run::drain() {
-  // After the last message: wait for outstanding answers, at most one watchdog period.
+  // After the last message: wait until the last trigger is answered (or every trigger is),
+  // at most one watchdog period; the rest count as unanswered.
   const Timestamp end = monotonic_now() + sc_.dut.watchdog;
-  while (reader_->answer_count() < triggers_sent_ && monotonic_now() < end && !g_interrupted) {
-    if (!dut_ok(monotonic_now())) return;
+  while (!g_interrupted && dut_ok(monotonic_now())) {
+    const Timestamp now = monotonic_now();
+    if (triggers_sent_ == 0 || reader_->answer_count() >= triggers_sent_ ||
+        reader_->wait_for(last_trigger_tag_, now) || now >= end) {
+      return;
+    }
     std::this_thread::sleep_for(5ms);
   }
-  dut_ok(monotonic_now());
 }
 
 reports::RunRecord Run::execute() {

@@ -7,9 +7,10 @@
 // std::mt19937_64 seeded with `seed`, drawn in this fixed order: fault by fault, message by
 // message (stream order), only for messages inside the window:
 //   off           no draw            removed
-//   stuck         no draw            bytes and trigger_tag := those of the last message with
-//                                    t_valid < start (greatest t_valid, later one on ties);
-//                                    removed when there is none
+//   stuck         no draw            bytes := those of the last message with t_valid < start
+//                                    (greatest t_valid, later one on ties), tag cleared (a
+//                                    repeat names a trigger already sent, so it is no new
+//                                    trigger); removed when there is none
 //   garbage       n raw outputs      bytes := n random bytes (low 8 bits of one raw output
 //                                    each), trigger_tag cleared
 //   slow          no draw            the i-th message inside the window (i = 0, 1, ...) is
@@ -21,7 +22,8 @@
 //                                    by another hex digit (value XOR 0xF, case kept), so the
 //                                    text still frames but its checksum is wrong; any other
 //                                    message gets its last byte XOR 0xFF (the trailing checksum
-//                                    / CRC byte of the binary protocols)
+//                                    / CRC byte of the binary protocols); tag cleared, since a
+//                                    DUT must reject the message
 //   truncated     1 uniform u, then  iff u < probability and n >= 2: cut to length
 //                 1 more if hit      L = 1 + floor(u' (n - 1)) in [1, n - 1], tag cleared
 //   byte_loss     1 uniform per byte each byte dropped iff u < probability; the message is
@@ -154,7 +156,7 @@ std::size_t apply_one(std::vector<WireMessage>& msgs, const FaultSpec& f,
         ++affected;
         if (!copied) continue;  // nothing to repeat: the device is silent
         m.bytes = copied->bytes;
-        m.trigger_tag = copied->trigger_tag;
+        m.trigger_tag.reset();
         out.push_back(std::move(m));
       }
       break;
@@ -211,6 +213,7 @@ std::size_t apply_one(std::vector<WireMessage>& msgs, const FaultSpec& f,
       for (auto& m : msgs) {
         if (inside(m, f) && uniform01(rng) < f.probability && !m.bytes.empty()) {
           corrupt_checksum(m.bytes);
+          m.trigger_tag.reset();
           ++affected;
         }
         out.push_back(std::move(m));
