@@ -3,9 +3,9 @@
 
 #include <charconv>
 #include <cstdio>
-#include <sstream>
 
 #include "decode_builders.hpp"
+#include "nav/bench/capture.hpp"
 #include "nav/common/units.hpp"
 #include "nav/protocols/microstrain_gx3.hpp"
 #include "nav/protocols/navd_solution.hpp"
@@ -263,33 +263,13 @@ DecodeCounts decode_stream(const ProtocolDecoder& d, protocols::ByteSpan bytes,
   return counts;
 }
 
-Result<protocols::Bytes> bytes_from_capture(const std::string& text, const std::string& port) {
+Result<protocols::Bytes> bytes_from_capture(const std::string& text, const std::string& port,
+                                            const std::string& file) {
+  auto lines = parse_capture(text, file);
+  if (!lines) return tl::unexpected(lines.error());
   protocols::Bytes out;
-  std::istringstream in(text);
-  std::size_t line_no = 0;
-  for (std::string line; std::getline(in, line);) {
-    ++line_no;
-    if (line.empty()) continue;
-    // "(<sec>.<nsec>) <port> <hex>"
-    const auto close = line.find(") ");
-    const auto space = close == std::string::npos ? close : line.find(' ', close + 2);
-    if (line[0] != '(' || space == std::string::npos) {
-      return fail(ErrorCode::kParse,
-                  "line " + std::to_string(line_no) + ": expected '(<sec>.<nsec>) <port> <hex>'");
-    }
-    if (line.compare(close + 2, space - close - 2, port) != 0) continue;
-    const std::string hex = line.substr(space + 1);
-    if (hex.size() % 2 != 0) {
-      return fail(ErrorCode::kParse, "line " + std::to_string(line_no) + ": odd number of hex digits");
-    }
-    for (std::size_t i = 0; i < hex.size(); i += 2) {
-      std::uint8_t b = 0;
-      const auto [p, ec] = std::from_chars(hex.data() + i, hex.data() + i + 2, b, 16);
-      if (ec != std::errc{} || p != hex.data() + i + 2) {
-        return fail(ErrorCode::kParse, "line " + std::to_string(line_no) + ": bad hex byte");
-      }
-      out.push_back(b);
-    }
+  for (const auto& l : *lines) {
+    if (l.port == port) out.insert(out.end(), l.bytes.begin(), l.bytes.end());
   }
   return out;
 }

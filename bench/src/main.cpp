@@ -27,9 +27,9 @@ int decode_file(const std::string& protocol, const std::string& path, const std:
   std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   nav::protocols::Bytes bytes(data.begin(), data.end());
   if (!port.empty()) {
-    auto b = bytes_from_capture(data, port);
+    auto b = bytes_from_capture(data, port, path);
     if (!b) {
-      std::fprintf(stderr, "navbench: %s: %s\n", path.c_str(), b.error().detail.c_str());
+      std::fprintf(stderr, "navbench: %s\n", b.error().detail.c_str());
       return kExitUsage;
     }
     bytes = std::move(*b);

@@ -1,10 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "nav/bench/replay.hpp"
 
-#include <pthread.h>
-#include <sched.h>
 #include <signal.h>
-#include <sys/prctl.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -17,12 +14,12 @@
 #include <fstream>
 #include <iterator>
 #include <memory>
-#include <sstream>
 #include <thread>
 
 #include "nav/bench/dut_process.hpp"
 #include "nav/bench/output_reader.hpp"
 #include "nav/bench/pty.hpp"
+#include "nav/bench/realtime.hpp"
 #include "nav/bench/runner.hpp"
 #include "nav/reports/run_record.hpp"
 #include "nav/transport/serial_port.hpp"
@@ -40,69 +37,6 @@ constexpr Duration kDrainMax = 3s;               // ... or at most this long
 std::atomic<bool> g_interrupted{false};
 extern "C" void on_replay_signal(int) { g_interrupted = true; }
 
-void sleep_until(Timestamp t) {
-  const timespec ts = to_timespec(t);
-  while (::clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
-    if (g_interrupted) return;
-  }
-}
-
-/// Best effort: real-time priority and a 1 ns timer slack for the calling thread.
-void try_realtime_priority(int priority) {
-  ::prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL);
-  sched_param p{};
-  p.sched_priority = priority;
-  (void)::pthread_setschedparam(::pthread_self(), SCHED_FIFO, &p);
-}
-
-int hex_digit(char c) {
-  if (c >= '0' && c <= '9') return c - '0';
-  if (c >= 'A' && c <= 'F') return c - 'A' + 10;
-  if (c >= 'a' && c <= 'f') return c - 'a' + 10;
-  return -1;
-}
-
-bool all_digits(std::string_view s) {
-  return !s.empty() && std::all_of(s.begin(), s.end(), [](char c) { return c >= '0' && c <= '9'; });
-}
-
-/// "(<sec>.<nsec>) <port> <hex>" -> line; false when malformed.
-bool parse_line(std::string_view s, CaptureLine& out) {
-  if (!s.empty() && s.back() == '\r') s.remove_suffix(1);
-  if (s.size() < 2 || s[0] != '(') return false;
-  const auto close = s.find(')');
-  if (close == std::string_view::npos) return false;
-  std::string_view time = s.substr(1, close - 1);
-  const bool negative = !time.empty() && time[0] == '-';
-  if (negative) time.remove_prefix(1);
-  const auto dot = time.find('.');
-  if (dot == std::string_view::npos) return false;
-  const std::string_view sec = time.substr(0, dot), frac = time.substr(dot + 1);
-  if (!all_digits(sec) || !all_digits(frac) || frac.size() > 9 || sec.size() > 10) return false;
-  long long secs = 0, nsec = 0;
-  std::from_chars(sec.data(), sec.data() + sec.size(), secs);
-  std::from_chars(frac.data(), frac.data() + frac.size(), nsec);
-  for (std::size_t i = frac.size(); i < 9; ++i) nsec *= 10;
-  const long long ns = secs * 1'000'000'000LL + nsec;
-  out.t = Duration{negative ? -ns : ns};
-
-  std::string_view rest = s.substr(close + 1);
-  if (rest.empty() || rest[0] != ' ') return false;
-  rest.remove_prefix(1);
-  const auto space = rest.find(' ');
-  if (space == 0 || space == std::string_view::npos) return false;
-  out.port = std::string(rest.substr(0, space));
-  const std::string_view hex = rest.substr(space + 1);
-  if (hex.size() % 2 != 0) return false;
-  out.bytes.clear();
-  out.bytes.reserve(hex.size() / 2);
-  for (std::size_t i = 0; i < hex.size(); i += 2) {
-    const int hi = hex_digit(hex[i]), lo = hex_digit(hex[i + 1]);
-    if (hi < 0 || lo < 0) return false;
-    out.bytes.push_back(static_cast<std::uint8_t>(hi * 16 + lo));
-  }
-  return true;
-}
 
 /// The bench's end of one replayed line: a pty or a real port.
 struct Line {
@@ -136,24 +70,6 @@ std::string ms(double s) {
 }
 
 }  // namespace
-
-Result<std::vector<CaptureLine>> parse_capture(const std::string& text, const std::string& file) {
-  std::vector<CaptureLine> out;
-  std::istringstream in(text);
-  std::size_t line_no = 0;
-  for (std::string line; std::getline(in, line);) {
-    ++line_no;
-    if (line.empty() || line == "\r") continue;
-    CaptureLine l;
-    if (!parse_line(line, l)) {
-      return fail(ErrorCode::kParse, file + ":" + std::to_string(line_no) +
-                                          ": expected '(<sec>.<nsec>) <port> <hex>'");
-    }
-    l.line_no = line_no;
-    out.push_back(std::move(l));
-  }
-  return out;
-}
 
 Result<PortMapping> parse_port_mapping(const std::string& text) {
   const auto eq = text.find('=');
@@ -358,7 +274,7 @@ int replay_capture(const ReplayOptions& o) {
       if (!dut_alive()) break;
       next_check = deadline + kCheckPeriod;
     }
-    sleep_until(deadline);
+    sleep_until(deadline, g_interrupted);
     if (g_interrupted) break;
     Line& p = ports[port_of[k]];
     const Timestamp actual = monotonic_now();

@@ -1,10 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "nav/bench/runner.hpp"
 
-#include <pthread.h>
-#include <sched.h>
 #include <signal.h>
-#include <sys/prctl.h>
 #include <poll.h>
 #include <unistd.h>
 
@@ -24,6 +21,7 @@
 #include "nav/bench/judge.hpp"
 #include "nav/bench/output_reader.hpp"
 #include "nav/bench/pty.hpp"
+#include "nav/bench/realtime.hpp"
 #include "nav/bench/wire_schedule.hpp"
 #include "nav/emulators/dvl_emulator.hpp"
 #include "nav/emulators/ebimu_emulator.hpp"
@@ -54,20 +52,6 @@ std::string utc_now(const char* format) {
   return buf;
 }
 
-void sleep_until(Timestamp t) {
-  const timespec ts = to_timespec(t);
-  while (::clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
-    if (g_interrupted) return;
-  }
-}
-
-/// Best effort: real-time priority and a 1 ns timer slack for the calling thread.
-void try_realtime_priority(int priority) {
-  ::prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL);
-  sched_param p{};
-  p.sched_priority = priority;
-  (void)::pthread_setschedparam(::pthread_self(), SCHED_FIFO, &p);
-}
 
 struct FileCloser {
   void operator()(std::FILE* f) const {
@@ -299,7 +283,7 @@ void Run::run_realtime() {
       next_check = deadline + kCheckPeriod;
       progress(c.t);
     }
-    sleep_until(deadline);
+    sleep_until(deadline, g_interrupted);
     const ScheduledMessage& m = schedule_.messages[c.message];
     const auto& bytes = message(m).bytes;
     const Timestamp start = monotonic_now();

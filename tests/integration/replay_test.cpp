@@ -269,7 +269,7 @@ TEST(NavbenchReplay, PlaysACaptureToNavdWhichAnswersEveryPacket) {
 
   // The DUT's output, decoded: about one $PNVBSOL per GX3 packet, naming their timers.
   const std::string rx = slurp(dir / "replay-rx.log");
-  auto bytes = bench::bytes_from_capture(rx, "output");
+  auto bytes = bench::bytes_from_capture(rx, "output", "replay-rx.log");
   ASSERT_TRUE(bytes) << bytes.error().detail;
   std::size_t solutions = 0, used = 0;
   std::vector<std::uint64_t> tags;

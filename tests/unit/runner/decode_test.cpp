@@ -349,13 +349,13 @@ TEST_F(DecodeCapture, RealRdiPd0CaptureDecodesEveryEnsemble) {
 
 TEST(Decode, BytesOfOnePortFromACapture) {
   const std::string cap = "(0.000100000) ahrs CB00\n(0.001000000) gps 2447\n(0.002000000) ahrs FF\n";
-  const auto b = bytes_from_capture(cap, "ahrs");
+  const auto b = bytes_from_capture(cap, "ahrs", "cap.log");
   ASSERT_TRUE(b);
   EXPECT_EQ(*b, (protocols::Bytes{0xCB, 0x00, 0xFF}));
-  EXPECT_FALSE(bytes_from_capture("(0.1) ahrs ABC\n", "ahrs"));
-  const auto bad = bytes_from_capture("ahrs CB\n", "ahrs");
+  EXPECT_FALSE(bytes_from_capture("(0.1) ahrs ABC\n", "ahrs", "cap.log"));
+  const auto bad = bytes_from_capture("ahrs CB\n", "ahrs", "cap.log");
   ASSERT_FALSE(bad);
-  EXPECT_NE(bad.error().detail.find("line 1"), std::string::npos);
+  EXPECT_EQ(bad.error().detail.rfind("cap.log:1: expected", 0), 0u) << bad.error().detail;
 }
 
 }  // namespace

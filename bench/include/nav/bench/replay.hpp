@@ -12,23 +12,12 @@
 #include <string>
 #include <vector>
 
+#include "nav/bench/capture.hpp"
 #include "nav/common/result.hpp"
 #include "nav/common/time.hpp"
 #include "nav/protocols/parse.hpp"
 
 namespace nav::bench {
-
-/// One line of a capture file.
-struct CaptureLine {
-  Duration t{};             ///< recorded time (relative to the capture's t0; may be < 0)
-  std::string port;         ///< port name
-  protocols::Bytes bytes;   ///< bytes of the line
-  std::size_t line_no = 0;  ///< 1-based line in the file
-};
-
-/// Parses a whole capture; empty lines are skipped. The error of a malformed line is
-/// "FILE:LINE: expected '(<sec>.<nsec>) <port> <hex>'" (kParse).
-Result<std::vector<CaptureLine>> parse_capture(const std::string& text, const std::string& file);
 
 /// `NAME=PATH[@BAUD]` (a --port value of replay, a PORT of record).
 struct PortMapping {

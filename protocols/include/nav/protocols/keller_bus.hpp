@@ -42,7 +42,7 @@ enum class Channel : std::uint8_t {
 
 /// Exception codes of an answer with kExceptionFlag set.
 enum class ExceptionCode : std::uint8_t {
-  kNotImplemented = 1,   ///< function not implemented
+  kNotImplemented = 1,   ///< the device does not know the function (exception 1)
   kBadParameter = 2,     ///< parameter out of range (e.g. an unknown channel)
   kErroneousData = 3,    ///< erroneous data
   kNotInitialised = 32,  ///< device not initialised: send F48 first
