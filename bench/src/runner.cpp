@@ -5,9 +5,11 @@
 #include <poll.h>
 #include <unistd.h>
 
+#include <array>
 #include <atomic>
 #include <cerrno>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
@@ -27,6 +29,7 @@
 #include "nav/emulators/ebimu_emulator.hpp"
 #include "nav/emulators/faults.hpp"
 #include "nav/emulators/usbl_emulator.hpp"
+#include "nav/protocols/microstrain_gx3.hpp"
 #include "nav/reports/run_record.hpp"
 #include "nav/transport/serial_port.hpp"
 
@@ -141,6 +144,14 @@ class Run {
   const emulators::WireMessage& message(const ScheduledMessage& m) const {
     return streams_[m.device][m.index];
   }
+  bool is_gx3(std::uint32_t d) const {
+    return sc_.devices[d].type == DeviceSpec::Type::kMicrostrainGx3;
+  }
+  /// Reads what the DUT wrote to each GX3's line and acts on its commands (start/stop of
+  /// continuous mode); scenario_t is the scenario time now (device timer, captures).
+  void poll_host_lines(Duration scenario_t);
+  void handle_host_command(std::uint32_t d, const protocols::gx3::HostCommand& c,
+                           Duration scenario_t);
 
   Scenario sc_;
   emulators::TruthTrajectory truth_;
@@ -161,6 +172,11 @@ class Run {
   std::vector<TriggerRecord> triggers_;
   std::unordered_map<std::uint32_t, std::size_t> trigger_of_message_;
   std::vector<std::size_t> bytes_sent_, bytes_dropped_, messages_sent_;
+  /// Per device: it streams (a GX3 only once started, see poll_host_lines; others always),
+  /// the host's bytes not parsed yet, and the messages not written while not streaming.
+  std::vector<char> streaming_;
+  std::vector<protocols::Bytes> host_rx_;
+  std::vector<std::size_t> suppressed_;
   std::vector<reports::LatenessRow> lateness_;
   std::size_t triggers_sent_ = 0;
   std::vector<Timestamp> sent_wire_ends_;  // of the triggers sent, in send order
@@ -221,6 +237,69 @@ void Run::generate() {
   bytes_sent_.assign(sc_.devices.size(), 0);
   bytes_dropped_.assign(sc_.devices.size(), 0);
   messages_sent_.assign(sc_.devices.size(), 0);
+  suppressed_.assign(sc_.devices.size(), 0);
+  host_rx_.assign(sc_.devices.size(), {});
+  streaming_.assign(sc_.devices.size(), 1);
+  for (std::uint32_t d = 0; d < sc_.devices.size(); ++d) {
+    if (is_gx3(d)) streaming_[d] = sc_.devices[d].gx3_continuous ? 1 : 0;
+  }
+}
+
+void Run::poll_host_lines(Duration scenario_t) {
+  namespace gx3 = protocols::gx3;
+  for (std::uint32_t d = 0; d < sc_.devices.size(); ++d) {
+    if (!is_gx3(d)) continue;
+    std::array<std::uint8_t, 256> buf{};
+    for (;;) {
+      const ssize_t n = ::read(lines_[d].fd(), buf.data(), buf.size());
+      if (n <= 0) break;  // nothing (EAGAIN) or a line error: the senders see those
+      const std::span<const std::uint8_t> got(buf.data(), static_cast<std::size_t>(n));
+      write_capture_line(rx_capture_.get(), scenario_t, sc_.devices[d].name, got);
+      auto& rx = host_rx_[d];
+      rx.insert(rx.end(), got.begin(), got.end());
+      std::size_t pos = 0;
+      while (pos < rx.size()) {
+        const auto r = gx3::parse_host_command(protocols::ByteSpan(rx.data() + pos, rx.size() - pos));
+        if (r.status == protocols::ParseStatus::kNeedMore) break;
+        pos += std::max<std::size_t>(r.consumed, 1);
+        if (r.status == protocols::ParseStatus::kComplete && r.message) {
+          handle_host_command(d, *r.message, scenario_t);
+        }
+      }
+      rx.erase(rx.begin(), rx.begin() + static_cast<std::ptrdiff_t>(pos));
+    }
+  }
+}
+
+void Run::handle_host_command(std::uint32_t d, const protocols::gx3::HostCommand& c,
+                              Duration scenario_t) {
+  namespace gx3 = protocols::gx3;
+  if (c.kind == gx3::HostCommandKind::kStopContinuous) {
+    streaming_[d] = 0;  // no reply
+    return;
+  }
+  // Set continuous: the emulator streams 0xCB only; another reply command stops the 0xCB
+  // stream (the real device would stream that reply instead) but is still acknowledged.
+  streaming_[d] = c.reply_command == gx3::kCmdAccelRateMag ? 1 : 0;
+  const auto ticks = static_cast<std::int64_t>(sc_.devices[d].gx3.timer_start_ticks) +
+                     std::llround(to_seconds(scenario_t) * gx3::kTicksPerSecond);
+  const auto reply = gx3::encode(
+      gx3::ContinuousModeReply{c.reply_command, static_cast<std::uint32_t>(ticks)});
+  const int fd = lines_[d].fd();
+  std::size_t off = 0;
+  for (int tries = 0; off < reply.size() && tries < 100; ++tries) {
+    const ssize_t n = ::write(fd, reply.data() + off, reply.size() - off);
+    if (n > 0) {
+      off += static_cast<std::size_t>(n);
+      continue;
+    }
+    pollfd p{fd, POLLOUT, 0};
+    ::poll(&p, 1, 1);
+  }
+  bytes_sent_[d] += off;
+  bytes_dropped_[d] += reply.size() - off;
+  write_capture_line(tx_capture_.get(), scenario_t, sc_.devices[d].name, reply);
+  lines_[d].flush();
 }
 
 std::vector<std::string> Run::dut_argv() const {
@@ -274,6 +353,7 @@ void Run::progress(Duration scenario_t) {
 
 void Run::run_realtime() {
   std::vector<Timestamp> first_byte(schedule_.messages.size());
+  std::vector<char> suppressed(schedule_.messages.size(), 0);
   Timestamp next_check = t0_;
   for (const Chunk& c : schedule_.chunks) {
     if (g_interrupted) return;
@@ -284,8 +364,15 @@ void Run::run_realtime() {
       progress(c.t);
     }
     sleep_until(deadline, g_interrupted);
+    poll_host_lines(monotonic_now() - t0_);
     const ScheduledMessage& m = schedule_.messages[c.message];
     const auto& bytes = message(m).bytes;
+    // A GX3 not (yet) told to stream sends nothing; a message once begun is finished.
+    if (c.offset == 0) suppressed[c.message] = streaming_[m.device] ? 0 : 1;
+    if (suppressed[c.message] != 0) {
+      if (c.offset + c.length == bytes.size()) ++suppressed_[m.device];
+      continue;
+    }
     const Timestamp start = monotonic_now();
     const ssize_t n = ::write(lines_[m.device].fd(), bytes.data() + c.offset, c.length);
     const Timestamp done = monotonic_now();
@@ -318,6 +405,30 @@ void Run::run_lockstep() {
     const ScheduledMessage& m = schedule_.messages[k];
     const auto& bytes = message(m).bytes;
     const int fd = lines_[m.device].fd();
+    poll_host_lines(m.start);
+    if (!streaming_[m.device] && is_trigger(m) && triggers_sent_ == 0) {
+      // The first trigger waits for the DUT's start command, as long as the watchdog allows.
+      const Timestamp wait_end = monotonic_now() + sc_.dut.watchdog;
+      while (!streaming_[m.device]) {
+        if (g_interrupted || !dut_ok(monotonic_now())) return;
+        if (monotonic_now() > wait_end) {
+          hung_ = true;
+          char t[200];
+          std::snprintf(t, sizeof t,
+                        "hung: no start command (C4 C1 29 CB) on '%s' within %.1f s",
+                        sc_.devices[m.device].name.c_str(), to_seconds(sc_.dut.watchdog));
+          dut_status_ = t;
+          return;
+        }
+        pollfd p{fd, POLLIN, 0};
+        ::poll(&p, 1, 10);
+        poll_host_lines(m.start);
+      }
+    }
+    if (!streaming_[m.device]) {
+      ++suppressed_[m.device];
+      continue;
+    }
     std::size_t off = 0;
     const Timestamp give_up = monotonic_now() + sc_.dut.watchdog;
     while (off < bytes.size()) {
@@ -385,6 +496,9 @@ reports::RunRecord Run::execute() {
   try_realtime_priority(20);
   while (monotonic_now() < t0_ && !g_interrupted && dut_ok(monotonic_now())) {
     std::this_thread::sleep_for(5ms);
+    // Realtime answers a start command sent during startup at once; lockstep reads it
+    // before its first message, at scenario time 0, so that runs are reproducible.
+    if (sc_.mode == TimeMode::kRealtime) poll_host_lines(monotonic_now() - t0_);
   }
   if (dut_ok(monotonic_now()) && !g_interrupted) {
     if (sc_.mode == TimeMode::kRealtime) run_realtime();
@@ -393,6 +507,12 @@ reports::RunRecord Run::execute() {
   }
   const bool alive = !crashed_ && !hung_ && dut_->running();
   if (alive) dut_status_ = "alive until the end (pid " + std::to_string(dut_->pid()) + ")";
+  if (alive && triggers_sent_ == 0 && !triggers_.empty() && is_gx3(trigger_device_) &&
+      suppressed_[trigger_device_] > 0) {
+    dut_status_ += "; no solutions: it never sent the start command (C4 C1 29 CB) on '" +
+                   sc_.dut.trigger + "', " + std::to_string(suppressed_[trigger_device_]) +
+                   " packets not sent";
+  }
   dut_->stop();
   reader_->stop();
   std::fflush(tx_capture_.get());
@@ -426,7 +546,7 @@ reports::RunRecord Run::execute() {
     const auto& dev = sc_.devices[d];
     rec.devices.push_back({dev.name, device_type_name(dev.type), lines_[d].path(), dev.baud,
                            emulators::device_seed(sc_.seed, dev.name), messages_sent_[d],
-                           bytes_sent_[d], bytes_dropped_[d]});
+                           bytes_sent_[d], bytes_dropped_[d], suppressed_[d]});
   }
   for (const auto& [device, f] : fault_records_) {
     rec.faults.push_back({device, f.kind, f.start_s, f.end_s, f.messages_affected});

@@ -399,7 +399,7 @@ DeviceSpec read_device(const Field& item, const Scenario& s) {
   std::vector<std::string> keys{"name", "type", "port", "baud", "rate", "errors", "faults"};
   switch (d.type) {
     case Type::kMicrostrainGx3:
-      keys.insert(keys.end(), {"latency", "timer_start", "mag_field"});
+      keys.insert(keys.end(), {"latency", "timer_start", "mag_field", "continuous"});
       break;
     case Type::kNmeaGps:
       keys.insert(keys.end(), {"latency", "talker", "utc_start", "max_depth_for_fix",
@@ -439,6 +439,7 @@ DeviceSpec read_device(const Field& item, const Scenario& s) {
       d.gx3.rate_hz = rate_hz;
       d.gx3.latency = latency;
       read_gx3(m, d.gx3);
+      if (auto v = m.optional("continuous")) d.gx3_continuous = v->boolean();
       bytes = protocols::gx3::kAccelRateMagLength;
       break;
     case Type::kNmeaGps:

@@ -153,6 +153,13 @@ int run(int argc, char** argv) {
   };
   auto ahrs = open_port(opt.ahrs_path, opt.ahrs_baud);
   if (!ahrs) return kExitPort;
+  // A 3DM-GX3-25 streams only once told to: set continuous mode for the 0xCB reply
+  // (protocols.md 1a). Its 8-byte 0xC4 reply is skipped by the 0xCB hunt.
+  if (auto ok = ahrs->write_all(nav::protocols::gx3::encode_set_continuous(
+          nav::protocols::gx3::kCmdAccelRateMag));
+      !ok) {
+    std::fprintf(stderr, "navd: cannot start the AHRS stream: %s\n", ok.error().detail.c_str());
+  }
   std::optional<nav::transport::SerialPort> gps;
   if (!opt.gps_path.empty()) {
     auto g = open_port(opt.gps_path, opt.gps_baud);

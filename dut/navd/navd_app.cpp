@@ -275,6 +275,10 @@ std::string NavdApp::run() {
     if (!ahrs_open_ && !gps_open_ && !extra_open) stop_reason_ = "all inputs closed";
   }
   (void)out_.flush();  // best effort, never blocking
+  if (ahrs_open_) {
+    // Stop the GX3's continuous mode (no reply); best effort, never blocking.
+    (void)ahrs_.write_some(protocols::gx3::encode_stop_continuous());
+  }
   return stop_reason_;
 }
 

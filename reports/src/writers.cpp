@@ -88,7 +88,8 @@ void write_summary(const RunRecord& r, const std::string& dir) {
     j["devices"].push_back({{"name", d.name},        {"type", d.type},
                             {"port", d.port},        {"baud", d.baud}, {"seed", d.seed},
                             {"messages", d.messages}, {"bytes", d.bytes},
-                            {"bytes_dropped", d.bytes_dropped}});
+                            {"bytes_dropped", d.bytes_dropped},
+                            {"suppressed", d.suppressed}});
   }
   j["faults"] = nlohmann::json::array();
   for (const auto& fr : r.faults) {

@@ -57,7 +57,15 @@ TEST(NavbenchRun, RealtimeScenarioWithNavdPasses) {
   const auto ahrs = run_navbench({"decode", "--protocol", "microstrain-gx3", "--port", "ahrs",
                                   (run / "capture-tx.log").string()}, dir);
   EXPECT_EQ(ahrs.exit_code, 0) << ahrs.err;
-  EXPECT_NE(ahrs.err.find(": 2000 messages, 0 errors"), std::string::npos) << ahrs.err;
+  // 2000 packets and the 8-byte reply to navd's start command.
+  EXPECT_NE(ahrs.err.find(": 2001 messages, 0 errors"), std::string::npos) << ahrs.err;
+  // navd started the GX3's continuous mode; the bench answered before the first packet.
+  EXPECT_NE(slurp(run / "capture-rx.log").find(" ahrs C4C129CB\n"), std::string::npos);
+  const auto first_ahrs = tx.find(" ahrs ");
+  ASSERT_NE(first_ahrs, std::string::npos);
+  EXPECT_EQ(tx.substr(first_ahrs + 6, 4), "C4CB");
+  EXPECT_EQ(tx.find('\n', first_ahrs) - (first_ahrs + 6), 16u);  // 8 bytes
+  for (const auto& d : s["devices"]) EXPECT_EQ(d["suppressed"].get<int>(), 0) << d["name"];
   const auto out = run_navbench({"decode", "--protocol", "nmea0183", "--port", "output",
                                  (run / "capture-rx.log").string()}, dir);
   EXPECT_EQ(out.exit_code, 0) << out.err;
@@ -103,6 +111,38 @@ TEST(NavbenchRun, DutThatStopsAnsweringIsReportedHung) {
   // The watchdog (1 s) ends the 10 s scenario early: the bench never waits for a hung DUT.
   EXPECT_LT(r.wall_s, 9.0);
   EXPECT_EQ(summary(dir / "run")["verdict"], "DUT hung");
+}
+
+// A DUT that never sends the GX3 start command gets no AHRS packets: no trigger is sent, so
+// the watchdog (which times answers to triggers) never fires and the DUT is not "hung"; the
+// run lasts its whole duration and fails on its error checks ("no solutions"), exit 1.
+TEST(NavbenchRun, DutThatNeverStartsTheGx3GetsNoPackets) {
+  const auto dir = fresh_dir("silent");
+  const auto r = run_navbench(
+      {"run", source_path("tests/integration/scenarios/dut_silent.yaml"), "--out", "run"}, dir);
+  EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+  EXPECT_NE(r.out.find("VERDICT: FAIL"), std::string::npos) << r.out;
+  const auto s = summary(dir / "run");
+  EXPECT_EQ(s["verdict"], "FAIL");
+  EXPECT_EQ(s["dut"]["triggers_sent"], 0);
+  EXPECT_EQ(s["dut"]["answers"], 0);
+  EXPECT_NE(s["dut"]["status"].get<std::string>().find("never sent the start command"),
+            std::string::npos) << s["dut"]["status"];
+  bool ahrs_seen = false;
+  for (const auto& d : s["devices"]) {
+    if (d["name"] != "ahrs") continue;
+    ahrs_seen = true;
+    EXPECT_EQ(d["messages"], 0);
+    EXPECT_EQ(d["bytes"], 0);
+    EXPECT_EQ(d["suppressed"], 300);  // 3 s at 100 Hz
+  }
+  EXPECT_TRUE(ahrs_seen);
+  for (const auto& c : s["checks"]) {
+    if (c["name"] != "horizontal_error") continue;
+    EXPECT_FALSE(c["passed"].get<bool>());
+    EXPECT_NE(c["detail"].get<std::string>().find("no solutions"), std::string::npos);
+  }
+  EXPECT_EQ(slurp(dir / "run" / "capture-tx.log").find(" ahrs "), std::string::npos);
 }
 
 TEST(NavbenchRun, SlowDutGetsItsDeadlineMissesCounted) {

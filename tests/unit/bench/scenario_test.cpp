@@ -168,11 +168,31 @@ TEST(LoadScenario, DefaultsOfAMinimalScenario) {
   EXPECT_EQ(d.gx3.rate_hz, 100.0);
   EXPECT_EQ(d.gx3.latency, 0ns);
   EXPECT_EQ(d.gx3.timer_start_ticks, 0u);
+  EXPECT_FALSE(d.gx3_continuous);  // waits for the DUT's start command, like the device
   EXPECT_EQ(d.gx3.accel.white_std, 0.0);
   EXPECT_EQ(s->dut.output_port, "pty");
   EXPECT_EQ(s->dut.startup, 500ms);
   EXPECT_EQ(s->dut.watchdog, 2s);
   EXPECT_TRUE(s->checks.empty());
+}
+
+TEST(LoadScenario, Gx3ContinuousKey) {
+  for (const auto& [value, expected] :
+       std::vector<std::pair<std::string, bool>>{{"true", true}, {"false", false}}) {
+    std::string text = kMinimal;
+    const auto at = text.find("type: microstrain-gx3-25");
+    ASSERT_NE(at, std::string::npos);
+    text.insert(at, "continuous: " + value + ", ");
+    const auto s = load_scenario(write_temp("gx3-continuous.yaml", text));
+    ASSERT_TRUE(s) << s.error().detail;
+    EXPECT_EQ(s->devices.at(0).gx3_continuous, expected) << value;
+  }
+  std::string text = kMinimal;
+  text.insert(text.find("type: microstrain-gx3-25"), "continuous: maybe, ");
+  const auto bad = load_scenario(write_temp("gx3-continuous-bad.yaml", text));
+  ASSERT_FALSE(bad);
+  EXPECT_NE(bad.error().detail.find("gx3-continuous-bad.yaml:"), std::string::npos)
+      << bad.error().detail;
 }
 
 TEST(LoadScenario, OptionalFieldsAndAlternativeSpellings) {

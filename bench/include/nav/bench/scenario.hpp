@@ -29,6 +29,9 @@ struct DeviceSpec {
   std::string port = "pty";  ///< "pty" or a device path such as /dev/ttyUSB0
   int baud = 115200;         ///< line rate [bit/s]; 8N1 = 10 bits per byte
   emulators::Gx3Config gx3;  ///< when type == kMicrostrainGx3
+  /// GX3 only (`continuous`): stream from power-on. False (the default): stream only after
+  /// the DUT sent the set-continuous command `C4 C1 29 CB`, as the real device does.
+  bool gx3_continuous = false;
   emulators::GpsConfig gps;  ///< when type == kNmeaGps (datum filled from the scenario)
   emulators::DvlConfig dvl;  ///< when type == kDvl (seabed from vehicle.seabed)
   emulators::EbimuConfig ebimu;  ///< when type == kEbimu

@@ -68,6 +68,8 @@ struct DeviceRow {
   int baud = 0;
   std::uint64_t seed = 0;  ///< the device's own engine seed, derived from the scenario seed
   std::size_t messages = 0, bytes = 0, bytes_dropped = 0;
+  /// Messages not written because the device was not streaming (a GX3 not yet told to).
+  std::size_t suppressed = 0;
 };
 
 /// What one scheduled fault of a device did (emulators::FaultRecord plus the device).
