@@ -424,9 +424,9 @@ std::vector<WireMessage> generate_dvl(const DvlConfig& cfg, const TruthTrajector
   std::optional<Duration> t_prev;
 
   std::vector<WireMessage> out;
-  for (std::int64_t k = 0;; ++k) {
-    const Duration t_valid = from_seconds(static_cast<double>(k) / cfg.rate_hz);
-    if (t_valid >= duration) break;
+  const std::vector<Duration> times = sample_times(cfg.rate_hz, duration);
+  for (std::size_t k = 0; k < times.size(); ++k) {
+    const Duration t_valid = times[k];
     const Ping p = measure(cfg, beams, truth.at(t_valid), rng);
 
     WireMessage msg;
@@ -434,7 +434,7 @@ std::vector<WireMessage> generate_dvl(const DvlConfig& cfg, const TruthTrajector
     msg.t_send = t_valid + cfg.latency;
     switch (cfg.protocol) {
       case DvlProtocol::kNavQuestNq1: msg.bytes = encode_nq1(cfg, p); break;
-      case DvlProtocol::kRdiPd0: msg.bytes = encode_pd0(cfg, p, k); break;
+      case DvlProtocol::kRdiPd0: msg.bytes = encode_pd0(cfg, p, static_cast<std::int64_t>(k)); break;
       case DvlProtocol::kRdiPd6: msg.bytes = encode_pd6(cfg, p, pd6_state); break;
       case DvlProtocol::kWaterLinkedA50: msg.bytes = encode_a50(cfg, p, msg.t_send, t_prev); break;
     }

@@ -136,4 +136,14 @@ Vec3 MagnetometerErrorModel::apply(const Vec3& b_T, double dt_s, std::mt19937_64
   return sensor_.apply(iron_.apply(b_T), dt_s, rng);
 }
 
+std::vector<Duration> sample_times(double rate_hz, Duration duration) {
+  std::vector<Duration> t;
+  for (std::int64_t k = 0;; ++k) {
+    const Duration t_k = from_seconds(static_cast<double>(k) / rate_hz);
+    if (t_k >= duration) break;
+    t.push_back(t_k);
+  }
+  return t;
+}
+
 }  // namespace nav::emulators

@@ -99,9 +99,7 @@ std::vector<WireMessage> generate_gps(const GpsConfig& cfg, const TruthTrajector
   std::optional<Duration> surfaced_at;    ///< last surfacing after a dive
 
   std::vector<WireMessage> out;
-  for (std::int64_t k = 0;; ++k) {
-    const Duration t_valid = from_seconds(static_cast<double>(k) / cfg.rate_hz);
-    if (t_valid >= duration) break;
+  for (const Duration t_valid : sample_times(cfg.rate_hz, duration)) {
     const TruthSample s = truth.at(t_valid);
 
     Vec3 noise_p_n;

@@ -49,9 +49,7 @@ std::vector<WireMessage> generate_gx3(const Gx3Config& cfg, const TruthTrajector
 
   std::vector<WireMessage> out;
   Duration t_prev{0};
-  for (std::int64_t k = 0;; ++k) {
-    const Duration t_valid = from_seconds(static_cast<double>(k) / cfg.rate_hz);
-    if (t_valid >= duration) break;
+  for (const Duration t_valid : sample_times(cfg.rate_hz, duration)) {
     const double dt_s = to_seconds(t_valid - t_prev);
     t_prev = t_valid;
 

@@ -33,6 +33,10 @@ std::uint64_t device_seed(std::uint64_t scenario_seed, std::string_view device_n
 /// is left to the library, the sequence is the same with every standard library.
 double standard_normal(std::mt19937_64& rng);
 
+/// Sample times of a device at a fixed rate: t_k = k / rate_hz for every t_k < duration
+/// (rounded to whole ns each, so they do not drift).
+std::vector<Duration> sample_times(double rate_hz, Duration duration);
+
 /// Per-axis error model of a triad (same parameters on each axis).
 struct TriadErrors {
   double white_std = 0.0;      ///< white noise standard deviation per sample [unit]
