@@ -35,6 +35,11 @@ constexpr std::array kFrequencyUnits{Unit{"Hz", 1.0}, Unit{"kHz", 1e3}};
 constexpr std::array kMagneticFieldUnits{Unit{"T", 1.0}, Unit{"uT", 1e-6}, Unit{"nT", 1e-9},
                                          Unit{"G", units::kGaussToTesla},
                                          Unit{"mG", 1e-3 * units::kGaussToTesla}};
+constexpr std::array kPressureUnits{Unit{"Pa", 1.0}, Unit{"hPa", 1e2}, Unit{"kPa", 1e3},
+                                    Unit{"bar", 1e5}, Unit{"mbar", 1e2}};
+constexpr std::array kDensityUnits{Unit{"kg/m^3", 1.0}, Unit{"kg/m3", 1.0}};
+/// Temperatures stay in degC (the only unit): K would need an offset, not a factor.
+constexpr std::array kTemperatureUnits{Unit{"degC", 1.0}};
 
 /// Suffix that turns a unit of X into a unit of the random walk of X.
 constexpr std::string_view kWalkSuffix = "/sqrt(s)";
@@ -47,7 +52,7 @@ struct DimensionInfo {
   bool walk;  ///< units are those of `units` followed by kWalkSuffix
 };
 
-const std::array<DimensionInfo, 11> kDimensions{{
+const std::array<DimensionInfo, 14> kDimensions{{
     {Dimension::kTime, "a duration", "20 s", kTimeUnits, false},
     {Dimension::kLength, "a length", "2.5 m", kLengthUnits, false},
     {Dimension::kSpeed, "a speed", "1.5 m/s", kSpeedUnits, false},
@@ -62,6 +67,9 @@ const std::array<DimensionInfo, 11> kDimensions{{
      kAngularRateUnits, true},
     {Dimension::kMagneticFieldWalk, "a magnetometer bias random walk", "0.01 uT/sqrt(s)",
      kMagneticFieldUnits, true},
+    {Dimension::kPressure, "a pressure", "1013.25 hPa", kPressureUnits, false},
+    {Dimension::kDensity, "a density", "1025 kg/m^3", kDensityUnits, false},
+    {Dimension::kTemperature, "a temperature", "10 degC", kTemperatureUnits, false},
 }};
 
 const DimensionInfo& info(Dimension dim) {
@@ -201,14 +209,20 @@ Result<Duration> parse_duration(std::string_view text) {
 }
 
 Result<double> parse_ratio(std::string_view text) {
+  constexpr std::string_view kPpmUnit = "ppm";
+  constexpr double kPercent = 100.0, kMillion = 1e6;  // parts in one
   text = trim(text);
   if (text.ends_with('%')) {
-    if (const auto v = parse_number(text.substr(0, text.size() - 1))) return *v / 100.0;
+    if (const auto v = parse_number(text.substr(0, text.size() - 1))) return *v / kPercent;
+  } else if (text.ends_with(kPpmUnit)) {
+    if (const auto v = parse_number(text.substr(0, text.size() - kPpmUnit.size()))) {
+      return *v / kMillion;
+    }
   } else if (const auto v = parse_number(text)) {
     return *v;
   }
-  return fail(ErrorCode::kParse,
-              "expected a ratio such as '2 %' or 0.02, got '" + std::string(text) + "'");
+  return fail(ErrorCode::kParse, "expected a ratio such as '2 %' or 0.02 (or '300 ppm'), got '" +
+                                     std::string(text) + "'");
 }
 
 }  // namespace nav::bench

@@ -11,6 +11,10 @@
 //   acceleration     m/s^2, m/s2, g, mg, ug [g = 9.80665 m/s^2]         -> m/s^2
 //   frequency        Hz, kHz                                            -> Hz
 //   magnetic field   T, uT, nT, G [1e-4 T], mG                          -> T
+//   pressure         Pa, hPa, kPa, bar [1e5 Pa], mbar [100 Pa]          -> Pa
+//   density          kg/m^3, kg/m3                                      -> kg/m^3
+//   temperature      degC                                               -> degC (not K: an
+//                    absolute temperature needs an offset, not a factor; devices report degC)
 //   random walks     any acceleration, angular-rate or magnetic-field unit followed by
 //                    "/sqrt(s)", e.g. mg/sqrt(s), deg/s/sqrt(s), uT/sqrt(s) -> SI/sqrt(s)
 // Units are case-sensitive (mg is milli-g, mG is milligauss). "µ" or "μ" may replace the
@@ -39,6 +43,9 @@ enum class Dimension {
   kAccelerationWalk,   ///< bias random walk of an accelerometer [m/s^2/sqrt(s)]
   kAngularRateWalk,    ///< bias random walk of a gyro [rad/s/sqrt(s)]
   kMagneticFieldWalk,  ///< bias random walk of a magnetometer [T/sqrt(s)]
+  kPressure,           ///< [Pa]
+  kDensity,            ///< mass density [kg/m^3]
+  kTemperature,        ///< temperature or temperature difference [degC]
 };
 
 /// What the dimension is, with an example: "a duration such as '20 s'".
@@ -59,7 +66,8 @@ Result<double> parse_quantity(std::string_view text, Dimension dim);
 /// A time quantity as integer nanoseconds (rounded to the nearest ns) [ns].
 Result<Duration> parse_duration(std::string_view text);
 
-/// A dimensionless ratio: "2 %" or "2%" (0.02) or a plain number "0.02".
+/// A dimensionless ratio: "2 %" or "2%" (0.02), "300 ppm" or "300ppm" (3e-4), or a plain
+/// number "0.02".
 Result<double> parse_ratio(std::string_view text);
 
 }  // namespace nav::bench

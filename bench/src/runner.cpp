@@ -11,6 +11,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <deque>
 #include <ctime>
 #include <filesystem>
 #include <memory>
@@ -28,6 +29,7 @@
 #include "nav/emulators/dvl_emulator.hpp"
 #include "nav/emulators/ebimu_emulator.hpp"
 #include "nav/emulators/faults.hpp"
+#include "nav/emulators/keller_emulator.hpp"
 #include "nav/emulators/usbl_emulator.hpp"
 #include "nav/protocols/microstrain_gx3.hpp"
 #include "nav/reports/run_record.hpp"
@@ -45,6 +47,7 @@ extern "C" void on_signal(int) { g_interrupted = true; }
 constexpr Duration kChunkPeriod = 1ms;       // byte pacing granularity
 constexpr Duration kCheckPeriod = 50ms;      // how often the DUT is watched while sending
 constexpr Duration kProgressPeriod = 10s;    // progress lines on long runs
+constexpr Duration kPollPeriod = 1ms;        // realtime: how often polled lines are read
 
 std::string utc_now(const char* format) {
   const std::time_t now = std::time(nullptr);
@@ -147,11 +150,19 @@ class Run {
   bool is_gx3(std::uint32_t d) const {
     return sc_.devices[d].type == DeviceSpec::Type::kMicrostrainGx3;
   }
-  /// Reads what the DUT wrote to each GX3's line and acts on its commands (start/stop of
-  /// continuous mode); scenario_t is the scenario time now (device timer, captures).
+  /// Reads what the DUT wrote to each GX3's and each polled device's line: acts on a GX3's
+  /// commands (start/stop of continuous mode) and queues a polled device's answers;
+  /// scenario_t is the scenario time now (device timer, request time, captures).
   void poll_host_lines(Duration scenario_t);
   void handle_host_command(std::uint32_t d, const protocols::gx3::HostCommand& c,
                            Duration scenario_t);
+  /// Writes every queued answer due at or before scenario_t (see answers_).
+  void send_due_answers(Duration scenario_t);
+  /// Writes bytes to device d's line at once, waiting briefly for room; returns bytes written.
+  std::size_t write_now(std::uint32_t d, const protocols::Bytes& bytes);
+  /// Realtime: sleeps until deadline; with polled devices in slices of at most
+  /// kPollPeriod, reading requests and sending the answers that fall due in between.
+  void wait_realtime(Timestamp deadline);
 
   Scenario sc_;
   emulators::TruthTrajectory truth_;
@@ -160,8 +171,8 @@ class Run {
   std::vector<Line> lines_;  // one per device, then the DUT's output
 
   std::vector<std::vector<emulators::WireMessage>> streams_;
-  /// What each device's faults did: (device name, record), in device then fault order.
-  std::vector<std::pair<std::string, emulators::FaultRecord>> fault_records_;
+  /// What each device's stream faults did, per device (a polled device's are its emulator's).
+  std::vector<std::vector<emulators::FaultRecord>> stream_fault_records_;
   WireSchedule schedule_;
   std::uint32_t trigger_device_ = 0;
   std::unique_ptr<DutProcess> dut_;
@@ -177,6 +188,19 @@ class Run {
   std::vector<char> streaming_;
   std::vector<protocols::Bytes> host_rx_;
   std::vector<std::size_t> suppressed_;
+  /// Polled devices (a Keller): one emulator per such device, null for the others; the
+  /// answers they made, in order (for the report); answers waiting for their t_send.
+  std::vector<std::unique_ptr<emulators::KellerEmulator>> polled_;
+  std::vector<std::vector<emulators::WireMessage>> answered_;
+  struct Answer {
+    std::uint32_t device = 0;
+    emulators::WireMessage message;
+  };
+  std::deque<Answer> answers_;  ///< sorted by message.t_send
+  bool any_polled_ = false;
+  /// Lockstep: scenario time the DUT has reached, the end on the wire of the last message
+  /// written (the DUT answers at once in lockstep, so its requests are stamped with it).
+  Duration lockstep_now_{0};
   std::vector<reports::LatenessRow> lateness_;
   std::size_t triggers_sent_ = 0;
   std::vector<Timestamp> sent_wire_ends_;  // of the triggers sent, in send order
@@ -204,6 +228,21 @@ std::vector<emulators::WireMessage> generate_stream(const DeviceSpec& dev,
       return emulators::generate_ebimu(dev.ebimu, truth, duration, seed);
     case DeviceSpec::Type::kEvologicsUsbl:
       return emulators::generate_usbl(dev.usbl, truth, duration, seed);
+    case DeviceSpec::Type::kKeller:
+      return {};  // polled: its answers are made as the DUT's requests arrive
+  }
+  throw std::logic_error("unknown device type");
+}
+
+/// The measurement faults of a device, in its type's config.
+const std::vector<emulators::MeasurementFault>& measurement_faults(const DeviceSpec& dev) {
+  switch (dev.type) {
+    case DeviceSpec::Type::kMicrostrainGx3: return dev.gx3.measurement_faults;
+    case DeviceSpec::Type::kNmeaGps: return dev.gps.measurement_faults;
+    case DeviceSpec::Type::kDvl: return dev.dvl.measurement_faults;
+    case DeviceSpec::Type::kEbimu: return dev.ebimu.measurement_faults;
+    case DeviceSpec::Type::kEvologicsUsbl: return dev.usbl.measurement_faults;
+    case DeviceSpec::Type::kKeller: return dev.keller.measurement_faults;
   }
   throw std::logic_error("unknown device type");
 }
@@ -213,16 +252,24 @@ void Run::generate() {
     const auto& dev = sc_.devices[d];
     const auto seed = emulators::device_seed(sc_.seed, dev.name);
     auto stream = generate_stream(dev, truth_, sc_.duration, seed);
-    if (!dev.faults.empty()) {
-      std::vector<emulators::FaultRecord> records;
+    stream_fault_records_.emplace_back();
+    if (!dev.faults.empty() && dev.type != DeviceSpec::Type::kKeller) {
       stream = emulators::apply_faults(std::move(stream), dev.faults,
                                        emulators::device_seed(sc_.seed, dev.name + "/faults"),
-                                       &records);
-      for (auto& r : records) fault_records_.push_back({dev.name, std::move(r)});
+                                       &stream_fault_records_.back());
     }
     streams_.push_back(std::move(stream));
     if (dev.name == sc_.dut.trigger) trigger_device_ = d;
+    if (dev.type == DeviceSpec::Type::kKeller) {
+      polled_.push_back(std::make_unique<emulators::KellerEmulator>(
+          dev.keller, truth_, dev.faults, seed,
+          emulators::device_seed(sc_.seed, dev.name + "/faults")));
+      any_polled_ = true;
+    } else {
+      polled_.push_back(nullptr);
+    }
   }
+  answered_.assign(sc_.devices.size(), {});
   std::vector<StreamInput> inputs;
   for (std::uint32_t d = 0; d < sc_.devices.size(); ++d) {
     inputs.push_back(StreamInput{&streams_[d], sc_.devices[d].baud});
@@ -248,13 +295,26 @@ void Run::generate() {
 void Run::poll_host_lines(Duration scenario_t) {
   namespace gx3 = protocols::gx3;
   for (std::uint32_t d = 0; d < sc_.devices.size(); ++d) {
-    if (!is_gx3(d)) continue;
+    if (!is_gx3(d) && !polled_[d]) continue;
     std::array<std::uint8_t, 256> buf{};
     for (;;) {
+      // A non-blocking read of a pty master first pushes what the DUT has written to its
+      // slave, so in lockstep a request written before the DUT's solution is read here.
       const ssize_t n = ::read(lines_[d].fd(), buf.data(), buf.size());
       if (n <= 0) break;  // nothing (EAGAIN) or a line error: the senders see those
       const std::span<const std::uint8_t> got(buf.data(), static_cast<std::size_t>(n));
       write_capture_line(rx_capture_.get(), scenario_t, sc_.devices[d].name, got);
+      if (polled_[d]) {
+        // A request before scenario time 0 (during the DUT's startup) is answered as at 0.
+        const Duration t = std::max(scenario_t, Duration{0});
+        for (auto& a : polled_[d]->on_bytes(got, t)) {
+          const auto at = std::upper_bound(
+              answers_.begin(), answers_.end(), a.t_send,
+              [](Duration ts, const Answer& x) { return ts < x.message.t_send; });
+          answers_.insert(at, Answer{d, std::move(a)});
+        }
+        continue;
+      }
       auto& rx = host_rx_[d];
       rx.insert(rx.end(), got.begin(), got.end());
       std::size_t pos = 0;
@@ -285,10 +345,16 @@ void Run::handle_host_command(std::uint32_t d, const protocols::gx3::HostCommand
                      std::llround(to_seconds(scenario_t) * gx3::kTicksPerSecond);
   const auto reply = gx3::encode(
       gx3::ContinuousModeReply{c.reply_command, static_cast<std::uint32_t>(ticks)});
+  write_now(d, reply);
+  write_capture_line(tx_capture_.get(), scenario_t, sc_.devices[d].name, reply);
+  lines_[d].flush();
+}
+
+std::size_t Run::write_now(std::uint32_t d, const protocols::Bytes& bytes) {
   const int fd = lines_[d].fd();
   std::size_t off = 0;
-  for (int tries = 0; off < reply.size() && tries < 100; ++tries) {
-    const ssize_t n = ::write(fd, reply.data() + off, reply.size() - off);
+  for (int tries = 0; off < bytes.size() && tries < 100; ++tries) {
+    const ssize_t n = ::write(fd, bytes.data() + off, bytes.size() - off);
     if (n > 0) {
       off += static_cast<std::size_t>(n);
       continue;
@@ -297,9 +363,43 @@ void Run::handle_host_command(std::uint32_t d, const protocols::gx3::HostCommand
     ::poll(&p, 1, 1);
   }
   bytes_sent_[d] += off;
-  bytes_dropped_[d] += reply.size() - off;
-  write_capture_line(tx_capture_.get(), scenario_t, sc_.devices[d].name, reply);
-  lines_[d].flush();
+  bytes_dropped_[d] += bytes.size() - off;
+  return off;
+}
+
+void Run::send_due_answers(Duration scenario_t) {
+  while (!answers_.empty() && answers_.front().message.t_send <= scenario_t) {
+    Answer a = std::move(answers_.front());
+    answers_.pop_front();
+    // Realtime stamps the capture when the bytes left; lockstep with the scheduled time.
+    const Duration stamp =
+        sc_.mode == TimeMode::kRealtime ? monotonic_now() - t0_ : a.message.t_send;
+    write_now(a.device, a.message.bytes);
+    ++messages_sent_[a.device];
+    write_capture_line(tx_capture_.get(), stamp, sc_.devices[a.device].name, a.message.bytes);
+    lines_[a.device].flush();
+    if (sc_.mode == TimeMode::kRealtime) {
+      lateness_.push_back(reports::LatenessRow{sc_.devices[a.device].name,
+                                               to_seconds(a.message.t_send), to_seconds(stamp)});
+    }
+    answered_[a.device].push_back(std::move(a.message));
+  }
+}
+
+void Run::wait_realtime(Timestamp deadline) {
+  if (!any_polled_) {
+    sleep_until(deadline, g_interrupted);
+    return;
+  }
+  for (;;) {
+    Timestamp now = monotonic_now();
+    poll_host_lines(now - t0_);
+    send_due_answers(now - t0_);
+    if (now >= deadline || g_interrupted) return;
+    Timestamp wake = std::min(deadline, now + kPollPeriod);
+    if (!answers_.empty()) wake = std::min(wake, t0_ + answers_.front().message.t_send);
+    sleep_until(wake, g_interrupted);
+  }
 }
 
 std::vector<std::string> Run::dut_argv() const {
@@ -363,7 +463,7 @@ void Run::run_realtime() {
       next_check = deadline + kCheckPeriod;
       progress(c.t);
     }
-    sleep_until(deadline, g_interrupted);
+    wait_realtime(deadline);
     poll_host_lines(monotonic_now() - t0_);
     const ScheduledMessage& m = schedule_.messages[c.message];
     const auto& bytes = message(m).bytes;
@@ -405,7 +505,10 @@ void Run::run_lockstep() {
     const ScheduledMessage& m = schedule_.messages[k];
     const auto& bytes = message(m).bytes;
     const int fd = lines_[m.device].fd();
-    poll_host_lines(m.start);
+    // What the DUT wrote while answering the messages so far happened at lockstep_now_;
+    // answers due before this message's first byte go out first.
+    poll_host_lines(lockstep_now_);
+    send_due_answers(m.start);
     if (!streaming_[m.device] && is_trigger(m) && triggers_sent_ == 0) {
       // The first trigger waits for the DUT's start command, as long as the watchdog allows.
       const Timestamp wait_end = monotonic_now() + sc_.dut.watchdog;
@@ -446,6 +549,7 @@ void Run::run_lockstep() {
     bytes_dropped_[m.device] += bytes.size() - off;
     ++messages_sent_[m.device];
     write_capture_line(tx_capture_.get(), m.start, sc_.devices[m.device].name, bytes);
+    lockstep_now_ = m.end;
     progress(m.start);
     if (!is_trigger(m)) {
       lines_[m.device].flush();  // visible to the DUT before the next trigger
@@ -548,8 +652,17 @@ reports::RunRecord Run::execute() {
                            emulators::device_seed(sc_.seed, dev.name), messages_sent_[d],
                            bytes_sent_[d], bytes_dropped_[d], suppressed_[d]});
   }
-  for (const auto& [device, f] : fault_records_) {
-    rec.faults.push_back({device, f.kind, f.start_s, f.end_s, f.messages_affected});
+  for (std::uint32_t d = 0; d < sc_.devices.size(); ++d) {
+    const auto& dev = sc_.devices[d];
+    auto records = polled_[d] ? polled_[d]->fault_records() : stream_fault_records_[d];
+    // Measurement faults affect the messages whose time of validity is in their window.
+    const auto& sent = polled_[d] ? answered_[d] : streams_[d];
+    for (const auto& f : measurement_faults(dev)) {
+      records.push_back(emulators::measurement_fault_record(f, sent));
+    }
+    for (const auto& f : records) {
+      rec.faults.push_back({dev.name, f.kind, f.start_s, f.end_s, f.messages_affected});
+    }
   }
   const bool any_failed = std::any_of(rec.checks.begin(), rec.checks.end(),
                                       [](const auto& c) { return c.judged && !c.passed; });

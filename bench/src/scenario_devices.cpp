@@ -45,13 +45,138 @@ constexpr std::size_t kUsblBytes = 256;
 /// Bit times per byte on the line (8N1: start + 8 data + stop).
 constexpr double kBitsPerByte = 10.0;
 
-void read_triad(const Field& f, Dimension dim, Dimension walk_dim, emulators::TriadErrors& e) {
-  const MapReader m(f, {"white", "bias", "bias_walk"});
-  if (auto v = m.optional("white")) e.white_std = v->quantity(dim, Bound::kNonNegative);
-  if (auto v = m.optional("bias")) e.bias = v->quantity(dim);
-  if (auto v = m.optional("bias_walk")) {
-    e.bias_walk_std = v->quantity(walk_dim, Bound::kNonNegative);
+/// Largest scale-factor error of a triad axis accepted, in magnitude [-].
+constexpr double kMaxTriadScaleFactor = 0.5;
+/// Largest misalignment angle of a triad accepted, in magnitude: the model is first order
+/// (error_model.cpp, Eq. (E2)); at 5 deg it stretches lengths by 0.4 % [deg].
+constexpr double kMaxMisalignmentDeg = 5.0;
+
+/// The keys of a triad error map (docs/scenario.md), plus `extra`.
+std::vector<std::string> triad_keys(std::vector<std::string> extra = {}) {
+  std::vector<std::string> keys{"white", "bias", "bias_walk", "scale", "misalignment",
+                                "quantization", "range"};
+  keys.insert(keys.end(), extra.begin(), extra.end());
+  return keys;
+}
+
+/// A vector written as a map {x, y, z}, all three required, each read by `one`.
+template <typename ReadOne>
+Vec3 read_xyz(const Field& f, ReadOne one) {
+  const MapReader m(f, {"x", "y", "z"});
+  return Vec3(one(m.required("x")), one(m.required("y")), one(m.required("z")));
+}
+
+/// A scale-factor error: one ratio for every axis ("0.03 %", "300 ppm", -0.0002) or a map
+/// {x, y, z} of ratios, per axis; each below 50 % in magnitude [-].
+Vec3 read_triad_scale(const Field& f) {
+  const std::string expected =
+      "a ratio such as '0.03 %' or '300 ppm', or a map {x, y, z} of ratios";
+  const auto one = [](const Field& r) {
+    const double s = r.signed_ratio();
+    if (std::abs(s) >= kMaxTriadScaleFactor) {
+      r.fail("expected a scale-factor error below 50 % in magnitude, got " +
+             quoted(r.node().Scalar()));
+    }
+    return s;
+  };
+  if (f.node().IsMap()) return read_xyz(f, one);
+  if (!f.node().IsScalar()) f.fail("expected " + expected + ", got " + what_is(f.node()));
+  return Vec3::Constant(one(f));
+}
+
+/// Misalignment of a triad: a map {x, y, z} of angles, each at most kMaxMisalignmentDeg in
+/// magnitude [rad].
+Vec3 read_misalignment(const Field& f) {
+  if (!f.node().IsMap()) {
+    f.fail("expected a map {x, y, z} of angles such as {x: 0.1 deg, y: 0 deg, z: -0.2 deg}, "
+           "got " + what_is(f.node()));
   }
+  return read_xyz(f, [](const Field& a) {
+    const double rad = a.quantity(Dimension::kAngle);
+    if (std::abs(rad) > units::deg_to_rad(kMaxMisalignmentDeg) * (1.0 + 1e-12)) {
+      a.fail("expected a misalignment angle of at most 5 deg in magnitude (the model is "
+             "first order), got " + quoted(a.node().Scalar()));
+    }
+    return rad;
+  });
+}
+
+/// The triad keys of an already opened error map (triad_keys()) into e, quantities of `dim`.
+void read_triad_errors(const MapReader& m, Dimension dim, Dimension walk_dim,
+                       emulators::TriadSensorErrors& e) {
+  if (auto v = m.optional("white")) e.random.white_std = v->quantity(dim, Bound::kNonNegative);
+  if (auto v = m.optional("bias")) e.random.bias = v->quantity(dim);
+  if (auto v = m.optional("bias_walk")) {
+    e.random.bias_walk_std = v->quantity(walk_dim, Bound::kNonNegative);
+  }
+  if (auto v = m.optional("scale")) e.scale_factor = read_triad_scale(*v);
+  if (auto v = m.optional("misalignment")) e.misalignment_rad = read_misalignment(*v);
+  if (auto v = m.optional("range")) e.saturation = v->quantity(dim, Bound::kPositive);
+  if (auto v = m.optional("quantization")) {
+    e.quantum = v->quantity(dim, Bound::kNonNegative);
+    if (e.quantum > e.saturation) {
+      v->fail("expected a quantization (LSB) no larger than the range " +
+              quoted(m.optional("range")->node().Scalar()) + ", got " +
+              quoted(v->node().Scalar()));
+    }
+  }
+}
+
+void read_triad(const Field& f, Dimension dim, Dimension walk_dim,
+                emulators::TriadSensorErrors& e) {
+  read_triad_errors(MapReader(f, triad_keys()), dim, walk_dim, e);
+}
+
+/// A soft-iron matrix: a list of 3 rows of 3 plain numbers, determinant > 0 [-].
+Mat3 read_soft_iron(const Field& f) {
+  const std::string expected =
+      "a 3x3 matrix of plain numbers such as [[1, 0, 0], [0, 1, 0], [0, 0, 1]]";
+  const std::vector<Field> rows = f.list(expected, 3);
+  if (rows.size() != 3) {
+    f.fail("expected " + expected + ", got " + std::to_string(rows.size()) + " rows");
+  }
+  Mat3 W;
+  for (int i = 0; i < 3; ++i) {
+    const std::vector<Field> row = rows[static_cast<std::size_t>(i)].list(
+        "a row of 3 plain numbers such as [1, 0, 0]", 3);
+    if (row.size() != 3) {
+      rows[static_cast<std::size_t>(i)].fail("expected a row of 3 plain numbers such as "
+                                             "[1, 0, 0], got " + std::to_string(row.size()) +
+                                             " numbers");
+    }
+    for (int j = 0; j < 3; ++j) {
+      const Field& x = row[static_cast<std::size_t>(j)];
+      const std::string t = x.text("a plain number (soft iron is dimensionless)");
+      const auto n = parse_number(t);
+      if (!n) x.fail("expected a plain number (soft iron is dimensionless), got " + quoted(t));
+      W(i, j) = *n;
+    }
+  }
+  const double det = W.determinant();
+  if (!(det > 0.0)) {
+    char buf[200];
+    std::snprintf(buf, sizeof buf,
+                  "expected a soft-iron matrix with a positive determinant (invertible, no "
+                  "reflection), got det = %g",
+                  det);
+    f.fail(buf);
+  }
+  return W;
+}
+
+/// The GX3's `errors.mag`: the triad keys plus the vehicle's hard_iron and soft_iron.
+void read_gx3_mag(const Field& f, emulators::Gx3Config& c) {
+  const MapReader m(f, triad_keys({"hard_iron", "soft_iron"}));
+  read_triad_errors(m, Dimension::kMagneticField, Dimension::kMagneticFieldWalk, c.mag);
+  if (auto v = m.optional("hard_iron")) {
+    if (!v->node().IsMap()) {
+      v->fail("expected a map {x, y, z} of magnetic fields such as {x: 5 uT, y: -2 uT, "
+              "z: 0 uT}, got " + what_is(v->node()));
+    }
+    c.iron.hard_iron_T =
+        read_xyz(*v, [](const Field& b) { return b.quantity(Dimension::kMagneticField); });
+  }
+  if (auto v = m.optional("soft_iron")) c.iron.soft_iron = read_soft_iron(*v);
 }
 
 void read_gx3(const MapReader& m, emulators::Gx3Config& c) {
@@ -66,9 +191,7 @@ void read_gx3(const MapReader& m, emulators::Gx3Config& c) {
     if (auto g = e.optional("gyro")) {
       read_triad(*g, Dimension::kAngularRate, Dimension::kAngularRateWalk, c.gyro);
     }
-    if (auto b = e.optional("mag")) {
-      read_triad(*b, Dimension::kMagneticField, Dimension::kMagneticFieldWalk, c.mag);
-    }
+    if (auto b = e.optional("mag")) read_gx3_mag(*b, c);
   }
   if (auto v = m.optional("mag_field")) {
     const MapReader b(*v, {"north", "east", "down"});
@@ -311,55 +434,244 @@ void read_usbl(const MapReader& m, emulators::UsblConfig& c) {
   if (auto v = m.optional("utc_start")) c.utc_start_unix_s = utc_seconds(*v);
 }
 
-/// One item of a device's faults list.
-emulators::FaultSpec read_fault(const Field& item, Duration run) {
+void read_keller(const MapReader& m, emulators::KellerConfig& c) {
+  if (auto v = m.optional("address")) {
+    c.address = static_cast<std::uint8_t>(v->integer<int>(1, 250));
+  }
+  if (auto v = m.optional("density")) {
+    c.density_kgpm3 = v->quantity(Dimension::kDensity, Bound::kPositive);
+  }
+  if (auto v = m.optional("atmosphere")) {
+    c.atmosphere_pa = v->quantity(Dimension::kPressure, Bound::kNonNegative);
+  }
+  if (auto v = m.optional("gauge")) c.gauge = v->boolean();
+  if (auto v = m.optional("response_time")) c.response_time = v->duration(Bound::kNonNegative);
+  if (auto v = m.optional("serial_number")) {
+    c.serial_number = v->integer<std::uint32_t>(0, std::numeric_limits<std::uint32_t>::max());
+  }
+  if (auto v = m.optional("temperature")) c.temperature_degc = v->quantity(Dimension::kTemperature);
+  if (auto v = m.optional("errors")) {
+    const MapReader e(*v, {"pressure", "temperature"});
+    if (auto p = e.optional("pressure")) {
+      const MapReader pe(*p, {"white", "bias"});
+      if (auto x = pe.optional("white")) {
+        c.pressure_std_pa = x->quantity(Dimension::kPressure, Bound::kNonNegative);
+      }
+      if (auto x = pe.optional("bias")) c.pressure_bias_pa = x->quantity(Dimension::kPressure);
+    }
+    if (auto t = e.optional("temperature")) {
+      const MapReader te(*t, {"white"});
+      if (auto x = te.optional("white")) {
+        c.temperature_std_degc = x->quantity(Dimension::kTemperature, Bound::kNonNegative);
+      }
+    }
+  }
+}
+
+/// A fault kind as written in scenarios: a stream fault (FaultSpec) or a measurement fault.
+struct AnyFaultKind {
+  bool measurement = false;
+  emulators::FaultSpec::Kind stream = emulators::FaultSpec::Kind::kOff;
+  emulators::MeasurementFault::Kind meas = emulators::MeasurementFault::Kind::kWrong;
+};
+
+/// The measurement fault kinds a device type takes besides `wrong` (every type takes it).
+std::vector<emulators::MeasurementFault::Kind> special_fault_kinds(DeviceSpec::Type t) {
+  using MK = emulators::MeasurementFault::Kind;
+  switch (t) {
+    case DeviceSpec::Type::kNmeaGps: return {MK::kGpsJump};
+    case DeviceSpec::Type::kDvl: return {MK::kBottomLockLoss};
+    case DeviceSpec::Type::kEvologicsUsbl: return {MK::kUsblOutliers};
+    case DeviceSpec::Type::kMicrostrainGx3:
+    case DeviceSpec::Type::kEbimu:
+    case DeviceSpec::Type::kKeller: break;
+  }
+  return {};
+}
+
+/// The quantities a `wrong` fault may act on for a device type.
+std::vector<emulators::Quantity> fault_quantities(DeviceSpec::Type t) {
+  using Q = emulators::Quantity;
+  switch (t) {
+    case DeviceSpec::Type::kMicrostrainGx3: return {Q::kAccel, Q::kGyro, Q::kMag};
+    case DeviceSpec::Type::kEbimu: return {Q::kAttitude, Q::kGyro, Q::kAccel};
+    case DeviceSpec::Type::kDvl:
+    case DeviceSpec::Type::kNmeaGps: return {Q::kVelocity};
+    case DeviceSpec::Type::kEvologicsUsbl: return {Q::kRange};
+    case DeviceSpec::Type::kKeller: return {Q::kPressure};
+  }
+  return {};
+}
+
+/// What a `wrong` fault's bias on q is measured in.
+Dimension quantity_dimension(emulators::Quantity q) {
+  switch (q) {
+    case emulators::Quantity::kAccel: return Dimension::kAcceleration;
+    case emulators::Quantity::kGyro: return Dimension::kAngularRate;
+    case emulators::Quantity::kMag: return Dimension::kMagneticField;
+    case emulators::Quantity::kAttitude: return Dimension::kAngle;
+    case emulators::Quantity::kVelocity: return Dimension::kSpeed;
+    case emulators::Quantity::kRange: return Dimension::kLength;
+    case emulators::Quantity::kPressure: return Dimension::kPressure;
+  }
+  return Dimension::kLength;
+}
+
+/// The measurement faults list of d's type config.
+std::vector<emulators::MeasurementFault>& measurement_faults(DeviceSpec& d) {
+  switch (d.type) {
+    case DeviceSpec::Type::kMicrostrainGx3: return d.gx3.measurement_faults;
+    case DeviceSpec::Type::kNmeaGps: return d.gps.measurement_faults;
+    case DeviceSpec::Type::kDvl: return d.dvl.measurement_faults;
+    case DeviceSpec::Type::kEbimu: return d.ebimu.measurement_faults;
+    case DeviceSpec::Type::kEvologicsUsbl: return d.usbl.measurement_faults;
+    case DeviceSpec::Type::kKeller: return d.keller.measurement_faults;
+  }
+  return d.gx3.measurement_faults;
+}
+
+/// One item of a device's faults list: a stream fault goes to d.faults, a measurement fault
+/// (wrong, gps_jump, bottom_lock_loss, usbl_outliers) to the measurement_faults of d's type.
+void read_fault(const Field& item, Duration run, DeviceSpec& d) {
   using Kind = emulators::FaultSpec::Kind;
-  const std::vector<std::pair<std::string, Kind>> kinds{
+  using MK = emulators::MeasurementFault::Kind;
+  const std::vector<std::pair<std::string, Kind>> stream_kinds{
       {"off", Kind::kOff},           {"stuck", Kind::kStuck},
       {"garbage", Kind::kGarbage},   {"slow", Kind::kSlow},
       {"delayed", Kind::kDelayed},   {"intermittent", Kind::kIntermittent},
       {"checksum", Kind::kChecksum}, {"truncated", Kind::kTruncated},
       {"byte_loss", Kind::kByteLoss}};
+  // The kinds this device type takes, in the order the error message names them.
+  std::vector<std::pair<std::string, AnyFaultKind>> kinds;
+  for (const auto& [name, k] : stream_kinds) kinds.push_back({name, AnyFaultKind{false, k, {}}});
+  std::vector<MK> measurement_kinds{MK::kWrong};
+  for (const MK k : special_fault_kinds(d.type)) measurement_kinds.push_back(k);
+  for (const MK k : measurement_kinds) {
+    kinds.push_back({emulators::measurement_fault_name(k), AnyFaultKind{true, {}, k}});
+  }
   if (!item.node().IsMap()) item.fail("expected a fault map, got " + what_is(item.node()));
   const auto kind_field = item.peek("kind");
   if (!kind_field) item.fail("missing required key 'kind'");
-  emulators::FaultSpec f;
-  f.kind = kind_field->choice(kinds);
+  {  // a measurement fault of another device type: say which type takes it
+    std::vector<std::string> names;
+    for (const auto& [name, k] : kinds) names.push_back(name);
+    const std::string expected = "one of " + join(names);
+    const std::string t = kind_field->text(expected);
+    const std::vector<std::pair<MK, const char*>> owners{{MK::kGpsJump, "nmea0183-gps"},
+                                                         {MK::kBottomLockLoss, "dvl"},
+                                                         {MK::kUsblOutliers, "evologics-usbl"}};
+    for (const auto& [k, owner] : owners) {
+      if (t == emulators::measurement_fault_name(k) &&
+          std::find(measurement_kinds.begin(), measurement_kinds.end(), k) ==
+              measurement_kinds.end()) {
+        kind_field->fail("expected " + expected + " (for type " + device_type_name(d.type) +
+                         "), got " + quoted(t) + ", a fault of type " + owner + " only");
+      }
+    }
+  }
+  const AnyFaultKind kind = kind_field->choice(kinds);
+
   std::vector<std::string> keys{"kind", "from", "to"};
-  switch (f.kind) {
-    case Kind::kIntermittent:
-    case Kind::kChecksum:
-    case Kind::kTruncated:
-    case Kind::kByteLoss: keys.push_back("probability"); break;
-    case Kind::kSlow: keys.push_back("factor"); break;
-    case Kind::kDelayed: keys.push_back("delay"); break;
-    case Kind::kOff:
-    case Kind::kStuck:
-    case Kind::kGarbage: break;
+  if (kind.measurement) {
+    switch (kind.meas) {
+      case MK::kWrong: keys.insert(keys.end(), {"quantity", "bias", "scale"}); break;
+      case MK::kGpsJump: keys.insert(keys.end(), {"north", "east", "down"}); break;
+      case MK::kBottomLockLoss: break;
+      case MK::kUsblOutliers: keys.insert(keys.end(), {"probability", "std"}); break;
+    }
+  } else {
+    switch (kind.stream) {
+      case Kind::kIntermittent:
+      case Kind::kChecksum:
+      case Kind::kTruncated:
+      case Kind::kByteLoss: keys.push_back("probability"); break;
+      case Kind::kSlow: keys.push_back("factor"); break;
+      case Kind::kDelayed: keys.push_back("delay"); break;
+      case Kind::kOff:
+      case Kind::kStuck:
+      case Kind::kGarbage: break;
+    }
   }
   const MapReader m(item, keys);
   const Field from = m.required("from");
-  f.start = from.duration(Bound::kNonNegative);
+  const Duration start = from.duration(Bound::kNonNegative);
   const Field to = m.required("to");
-  f.end = to.duration(Bound::kPositive);
+  const Duration end = to.duration(Bound::kPositive);
   char buf[200];
-  if (f.start >= run) {
+  if (start >= run) {
     std::snprintf(buf, sizeof buf,
                   "expected a fault start before the end of the scenario (duration %g s), "
                   "got '%s'", to_seconds(run), from.node().Scalar().c_str());
     from.fail(buf);
   }
-  if (f.end > run) {
+  if (end > run) {
     std::snprintf(buf, sizeof buf,
                   "expected a fault end within the scenario (duration %g s), got '%s'",
                   to_seconds(run), to.node().Scalar().c_str());
     to.fail(buf);
   }
-  if (f.end <= f.start) {
+  if (end <= start) {
     std::snprintf(buf, sizeof buf, "expected a fault end after its start (from %g s), got '%s'",
-                  to_seconds(f.start), to.node().Scalar().c_str());
+                  to_seconds(start), to.node().Scalar().c_str());
     to.fail(buf);
   }
+
+  if (kind.measurement) {
+    emulators::MeasurementFault f;
+    f.kind = kind.meas;
+    f.start = start;
+    f.end = end;
+    switch (f.kind) {
+      case MK::kWrong: {
+        const Field q = m.required("quantity");
+        std::vector<std::string> names;
+        for (const auto v : fault_quantities(d.type)) names.push_back(emulators::quantity_name(v));
+        const std::string expected = "one of " + join(names);
+        const std::string t = q.text(expected);
+        bool found = false;
+        for (const auto v : fault_quantities(d.type)) {
+          if (t == emulators::quantity_name(v)) {
+            f.quantity = v;
+            found = true;
+          }
+        }
+        if (!found) {
+          q.fail("expected " + expected + " (for type " + device_type_name(d.type) + "), got " +
+                 quoted(t));
+        }
+        if (!m.has("bias") && !m.has("scale")) {
+          kind_field->fail("a wrong fault needs 'bias', 'scale' or both");
+        }
+        if (auto v = m.optional("bias")) f.bias = v->quantity(quantity_dimension(f.quantity));
+        if (auto v = m.optional("scale")) f.scale = v->signed_ratio();
+        break;
+      }
+      case MK::kGpsJump:
+        if (!m.has("north") && !m.has("east") && !m.has("down")) {
+          kind_field->fail("a gps_jump fault needs 'north', 'east' or 'down'");
+        }
+        if (auto v = m.optional("north")) f.jump_n_m.x() = v->quantity(Dimension::kLength);
+        if (auto v = m.optional("east")) f.jump_n_m.y() = v->quantity(Dimension::kLength);
+        if (auto v = m.optional("down")) f.jump_n_m.z() = v->quantity(Dimension::kLength);
+        break;
+      case MK::kBottomLockLoss: break;
+      case MK::kUsblOutliers:
+        f.probability = 1.0;
+        f.outlier_std_m = 20.0;
+        if (auto v = m.optional("probability")) f.probability = v->probability();
+        if (auto v = m.optional("std")) {
+          f.outlier_std_m = v->quantity(Dimension::kLength, Bound::kNonNegative);
+        }
+        break;
+    }
+    measurement_faults(d).push_back(f);
+    return;
+  }
+
+  emulators::FaultSpec f;
+  f.kind = kind.stream;
+  f.start = start;
+  f.end = end;
   // Defaults per kind (docs/scenario.md).
   switch (f.kind) {
     case Kind::kIntermittent: f.probability = 0.5; break;
@@ -377,7 +689,7 @@ emulators::FaultSpec read_fault(const Field& item, Duration run) {
     f.factor = *n;
   }
   if (f.kind == Kind::kDelayed) f.delay = m.required("delay").duration(Bound::kPositive);
-  return f;
+  d.faults.push_back(f);
 }
 
 DeviceSpec read_device(const Field& item, const Scenario& s) {
@@ -387,12 +699,13 @@ DeviceSpec read_device(const Field& item, const Scenario& s) {
       {"nmea0183-gps", Type::kNmeaGps},
       {"dvl", Type::kDvl},
       {"ebimu-9dof", Type::kEbimu},
-      {"evologics-usbl", Type::kEvologicsUsbl}};
+      {"evologics-usbl", Type::kEvologicsUsbl},
+      {"keller-rs485", Type::kKeller}};
   if (!item.node().IsMap()) item.fail("expected a device map, got " + what_is(item.node()));
   const auto type_field = item.peek("type");
   if (!type_field) {
-    item.fail("missing required key 'type' (microstrain-gx3-25, nmea0183-gps, dvl, ebimu-9dof "
-              "or evologics-usbl)");
+    item.fail("missing required key 'type' (microstrain-gx3-25, nmea0183-gps, dvl, ebimu-9dof, "
+              "evologics-usbl or keller-rs485)");
   }
   DeviceSpec d;
   d.type = type_field->choice(types);
@@ -414,6 +727,12 @@ DeviceSpec read_device(const Field& item, const Scenario& s) {
       keys.insert(keys.end(), {"transceiver", "sound_speed", "outliers", "dropout",
                                "angles_only", "processing", "utc_start"});
       break;
+    case Type::kKeller:
+      // Polled: no rate; it answers the DUT's requests (read_keller()).
+      keys.erase(std::find(keys.begin(), keys.end(), "rate"));
+      keys.insert(keys.end(), {"address", "density", "atmosphere", "gauge", "response_time",
+                               "serial_number", "temperature"});
+      break;
   }
   const MapReader m(item, keys);
 
@@ -428,6 +747,7 @@ DeviceSpec read_device(const Field& item, const Scenario& s) {
     case Type::kDvl: d.baud = 115200; rate_hz = 5.0; break;
     case Type::kEbimu: d.baud = 115200; rate_hz = 100.0; break;
     case Type::kEvologicsUsbl: d.baud = 19200; rate_hz = 1.0; break;
+    case Type::kKeller: d.baud = 9600; break;  // polled: the DUT sets the rate
   }
   if (auto v = m.optional("baud")) d.baud = v->baud();
   if (auto v = m.optional("rate")) rate_hz = v->rate();
@@ -470,6 +790,9 @@ DeviceSpec read_device(const Field& item, const Scenario& s) {
       read_usbl(m, d.usbl);
       bytes = kUsblBytes;
       break;
+    case Type::kKeller:
+      read_keller(m, d.keller);
+      break;  // polled: nothing is sent unasked, so there is no stream to fit on the line
   }
 
   // Does the stream fit on the line?
@@ -487,7 +810,7 @@ DeviceSpec read_device(const Field& item, const Scenario& s) {
 
   if (auto v = m.optional("faults")) {
     for (const Field& f : v->list("a list of faults", 0)) {
-      d.faults.push_back(read_fault(f, s.duration));
+      read_fault(f, s.duration, d);
     }
   }
   return d;
@@ -531,6 +854,7 @@ const char* device_type_name(DeviceSpec::Type t) {
     case DeviceSpec::Type::kDvl: return "dvl";
     case DeviceSpec::Type::kEbimu: return "ebimu-9dof";
     case DeviceSpec::Type::kEvologicsUsbl: return "evologics-usbl";
+    case DeviceSpec::Type::kKeller: return "keller-rs485";
   }
   return "?";
 }

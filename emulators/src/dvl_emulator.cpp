@@ -26,6 +26,22 @@
 // a probability or standard deviation is 0: four dropout uniforms (beam 0..3, one raw output
 // each, dropped when u < p), then four standard normals (beam 0..3, standard_normal()).
 //
+// Measurement faults (cfg.measurement_faults, measurement_faults.hpp), by t_k; they draw
+// nothing (the draws above are made on every ping), so the noise and dropouts of every ping
+// are the same with and without them:
+//   bottom_lock_loss  valid_i = false for every beam: the ping is reported exactly as one
+//            above max_altitude (no velocity, no altitude, the same invalid flags and values
+//            in every protocol; PD6 :BD stops integrating and its time since good grows).
+//   wrong on velocity, step (s, b) = wrong_at(t_k): applied to the beam measurements,
+//            m_i' = (1 + s) m_i - b (b_i . [1, 1, 1])                                (Eq. D3)
+//            so that the least-squares velocity of any set of >= 3 valid beams becomes
+//            v~_b' = (1 + s) v~_b + b [1, 1, 1]: the scale on the measured velocity and the
+//            bias on each axis of the vehicle's velocity over the seabed in the instrument
+//            frame (body FRD). Every reported velocity follows, as the device would report it:
+//            NQ1 radials, PD0/NQ1 bottom velocities (= -v~_b', in their frames), PD6 :BI/:BS/
+//            :BE and the :BD integration, A50 x, y, z; the RDI error velocity only scales (the
+//            bias terms cancel: b_1 + b_2 = b_3 + b_4). With no active fault nothing changes.
+//
 // Per-protocol conventions (beam numbering and frames):
 // - NQ1: beams 1..4 = az 45, 135, 225, 315 deg (UNCONFIRMED: no public beam map). Instrument
 //   frame = body FRD. Velocities are the bottom's velocity relative to the DVL (= -v~_b), as
@@ -114,8 +130,9 @@ double uniform01(std::mt19937_64& rng) {
   return static_cast<double>(rng() >> 11) * 0x1.0p-53;
 }
 
+/// One ping; lock_lost and velocity_step are the measurement faults active at s.t.
 Ping measure(const DvlConfig& cfg, const std::array<Vec3, kBeams>& beams, const TruthSample& s,
-             std::mt19937_64& rng) {
+             bool lock_lost, const WrongStep& velocity_step, std::mt19937_64& rng) {
   Ping p;
   p.truth = s;
   p.R_nb = s.q_nb.toRotationMatrix();
@@ -132,12 +149,16 @@ Ping measure(const DvlConfig& cfg, const std::array<Vec3, kBeams>& beams, const 
   for (int i = 0; i < kBeams; ++i) {
     p.radial_mps[i] = -beams[i].dot(v_b) * (1.0 + cfg.scale_factor) +
                       cfg.velocity_std_mps * noise[i];  // Eq. (D1)
+    if (velocity_step.scale != 0.0 || velocity_step.bias != 0.0) {  // Eq. (D3)
+      p.radial_mps[i] = (1.0 + velocity_step.scale) * p.radial_mps[i] -
+                        velocity_step.bias * beams[i].sum();
+    }
     const double dz = (p.R_nb * beams[i]).z();
     if (!(dz > 0.0 && h > 0.0)) continue;  // beam looks up, or the vehicle is below the seabed
     p.slant_m[i] = h / dz;
     p.axial_m[i] = p.slant_m[i] * cos_a;
     p.valid[i] = p.axial_m[i] >= cfg.blanking_m && p.axial_m[i] <= cfg.max_altitude_m &&
-                 !dropped[i];
+                 !dropped[i] && !lock_lost;  // lock lost: as above max altitude
     if (!p.valid[i]) continue;
     ++p.n_valid;
     vertical_sum += p.slant_m[i] * dz;
@@ -417,6 +438,11 @@ std::vector<WireMessage> generate_dvl(const DvlConfig& cfg, const TruthTrajector
   NAV_ENSURE(cfg.sound_speed_mps > 0.0 && cfg.sound_speed_mps < 65535.0,
              "DVL sound_speed_mps out of range");
   NAV_ENSURE(std::isfinite(cfg.utc_start_unix_s), "DVL utc_start_unix_s must be finite");
+  for (const MeasurementFault& f : cfg.measurement_faults) {
+    NAV_ENSURE(f.start <= f.end, "DVL measurement fault window end must not precede its start");
+    NAV_ENSURE(std::isfinite(f.scale) && std::isfinite(f.bias),
+               "DVL measurement fault scale and bias must be finite");
+  }
 
   const std::array<Vec3, kBeams> beams = beam_vectors(cfg.beam_angle_rad);
   std::mt19937_64 rng(seed);
@@ -427,7 +453,9 @@ std::vector<WireMessage> generate_dvl(const DvlConfig& cfg, const TruthTrajector
   const std::vector<Duration> times = sample_times(cfg.rate_hz, duration);
   for (std::size_t k = 0; k < times.size(); ++k) {
     const Duration t_valid = times[k];
-    const Ping p = measure(cfg, beams, truth.at(t_valid), rng);
+    const Ping p = measure(cfg, beams, truth.at(t_valid),
+                           bottom_lock_lost_at(cfg.measurement_faults, t_valid),
+                           wrong_at(cfg.measurement_faults, Quantity::kVelocity, t_valid), rng);
 
     WireMessage msg;
     msg.t_valid = t_valid;

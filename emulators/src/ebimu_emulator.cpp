@@ -12,17 +12,30 @@
 //                      (-180, 180], pitch clamped to [-90, 90]
 //   quaternion output: q~ = q(phi~, theta~, psi~) (ZYX, Hamilton, body FRD -> NED), sign
 //                      chosen with w >= 0; the codec sends it in the device order z, y, x, w
-//   gyro  [deg/s] = deg(omega_b(t_k) + e_gyro)      (TriadErrorModel, [rad/s])
-//   accel [g]     = (f_b(t_k) + e_accel) / g0        (TriadErrorModel, [m/s^2])
+//   gyro  [deg/s] = deg(Wr_gyro(E_gyro(omega_b(t_k))))   (E: TriadSensorErrorModel, [rad/s])
+//   accel [g]     = Wr_accel(E_accel(f_b(t_k))) / g0      (E: TriadSensorErrorModel, [m/s^2])
 //   t_send   = t_k + latency; no trigger tag (the ASCII line carries no sensor time)
+// E_x applies error_model.cpp's Eq. (E1) in its order: misalignment and scale factor, bias and
+// bias walk, white noise, saturation, quantization.
+// `wrong` faults (measurement_faults.hpp), Wr_x: v -> (1 + scale) v + bias while a window
+// covers t_k, applied after the error model and before encoding:
+//   kGyro, kAccel on each axis of the measured triad (after its saturation and quantization:
+//   the device's output is what fails);
+//   kAttitude on each measured Euler angle (phi~, theta~, psi~, after the heading bias, the
+//   wrapping and the pitch clamp), then roll and yaw wrapped and pitch clamped again; for
+//   quaternion output the faulty angles are converted, so the fault acts on the angles the
+//   quaternion encodes.
+// Outside every window nothing is recomputed (the output is bit for bit that without faults).
 // Frames (the EBIMU's own sign convention is UNCONFIRMED, protocols.md): the emulator speaks
 // the bench's conventions, attitude of body FRD w.r.t. NED, rate and specific force in body
 // FRD (so a level vehicle at rest reads accel z = -1 g).
 // Random draws, one mt19937_64 seeded with `seed`, fixed order every sample and independent
 // of which outputs are enabled: n1, n2, n3 (attitude), then gyro (6 normals), then accel
-// (6 normals), see TriadErrorModel. Enabling an output or a noise term changes no other draw.
+// (6 normals), see TriadErrorModel. Enabling an output, a noise term, a deterministic error
+// term or a fault changes no other draw.
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "nav/common/ensure.hpp"
 #include "nav/common/frames.hpp"
@@ -31,6 +44,24 @@
 #include "nav/protocols/ebimu.hpp"
 
 namespace nav::emulators {
+namespace {
+
+/// True when w changes nothing (no active `wrong` fault).
+bool is_identity(const WrongStep& w) {
+  return w.scale == 0.0 && w.bias == 0.0;
+}
+
+/// Roll or yaw as output: wrapped to (-pi, pi] [rad].
+double output_roll_yaw(double a) {
+  return wrap_pi(a);
+}
+
+/// Pitch as output: clamped to [-pi/2, pi/2] [rad].
+double output_pitch(double a) {
+  return std::clamp(a, -std::numbers::pi / 2.0, std::numbers::pi / 2.0);
+}
+
+}  // namespace
 
 std::vector<WireMessage> generate_ebimu(const EbimuConfig& cfg, const TruthTrajectory& truth,
                                         Duration duration, std::uint64_t seed) {
@@ -41,8 +72,9 @@ std::vector<WireMessage> generate_ebimu(const EbimuConfig& cfg, const TruthTraje
   NAV_ENSURE(std::isfinite(cfg.attitude_bias_rad), "EBIMU attitude_bias_rad must be finite");
 
   std::mt19937_64 rng(seed);
-  TriadErrorModel gyro_errors(cfg.gyro_errors);
-  TriadErrorModel accel_errors(cfg.accel_errors);
+  TriadSensorErrorModel gyro_errors(cfg.gyro_errors);
+  TriadSensorErrorModel accel_errors(cfg.accel_errors);
+  const auto& faults = cfg.measurement_faults;
 
   std::vector<WireMessage> out;
   Duration t_prev{0};
@@ -55,15 +87,27 @@ std::vector<WireMessage> generate_ebimu(const EbimuConfig& cfg, const TruthTraje
     const double n_roll = standard_normal(rng);
     const double n_pitch = standard_normal(rng);
     const double n_yaw = standard_normal(rng);
-    const Vec3 omega_s = gyro_errors.apply(s.omega_b, dt_s, rng);  // [rad/s]
-    const Vec3 f_s = accel_errors.apply(s.f_b, dt_s, rng);          // [m/s^2]
+    Vec3 omega_s = gyro_errors.apply(s.omega_b, dt_s, rng);  // [rad/s]
+    Vec3 f_s = accel_errors.apply(s.f_b, dt_s, rng);          // [m/s^2]
 
     const Euler e = euler_from_quat(s.q_nb);
     Euler m;
-    m.roll = wrap_pi(e.roll + cfg.attitude_std_rad * n_roll);
-    m.pitch = std::clamp(e.pitch + cfg.attitude_std_rad * n_pitch, -std::numbers::pi / 2.0,
-                         std::numbers::pi / 2.0);
-    m.yaw = wrap_pi(e.yaw + cfg.attitude_std_rad * n_yaw + cfg.attitude_bias_rad);
+    m.roll = output_roll_yaw(e.roll + cfg.attitude_std_rad * n_roll);
+    m.pitch = output_pitch(e.pitch + cfg.attitude_std_rad * n_pitch);
+    m.yaw = output_roll_yaw(e.yaw + cfg.attitude_std_rad * n_yaw + cfg.attitude_bias_rad);
+
+    // `wrong` faults last, on the measured values (no draws).
+    if (const WrongStep w = wrong_at(faults, Quantity::kAttitude, t_valid); !is_identity(w)) {
+      m.roll = output_roll_yaw(w.apply(m.roll));
+      m.pitch = output_pitch(w.apply(m.pitch));
+      m.yaw = output_roll_yaw(w.apply(m.yaw));
+    }
+    if (const WrongStep w = wrong_at(faults, Quantity::kGyro, t_valid); !is_identity(w)) {
+      omega_s = w.apply(omega_s);
+    }
+    if (const WrongStep w = wrong_at(faults, Quantity::kAccel, t_valid); !is_identity(w)) {
+      f_s = w.apply(f_s);
+    }
 
     protocols::ebimu::Sample sample;
     if (cfg.quaternion) {

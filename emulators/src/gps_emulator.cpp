@@ -36,6 +36,17 @@
 // Without a fix the receiver behaves like a real one: GGA quality 0, 0 satellites and empty
 // position/HDOP/height fields; RMC status V, empty position/SOG/COG, mode N; time and date
 // keep running (receiver clock).
+//
+// Measurement faults (cfg.measurement_faults, measurement_faults.hpp), by t_k; they draw
+// nothing, so the noise of every epoch is the same with and without them:
+//   gps_jump  p~_n += gps_jump_at(t_k) before the conversion to lat/lon/alt, so GGA and RMC
+//             carry the jumped position (the noise is unchanged).
+//   wrong on velocity: the reported speed over ground (RMC and VTG, knots and km/h) is
+//             SOG' = max(0, (1 + scale) SOG + bias) with SOG = |v~_ne| as above (a receiver
+//             reports a speed, not a signed value: SOG' is clamped at 0). The course stays the
+//             direction of v~_ne, and the "course repeats below 0.05 m/s" rule looks at SOG,
+//             not SOG' (the fault acts on the speed the receiver reports, not on its course).
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -44,6 +55,7 @@
 #include "nav/common/geodesy.hpp"
 #include "nav/common/units.hpp"
 #include "nav/emulators/device.hpp"
+#include "nav/emulators/measurement_faults.hpp"
 #include "nav/protocols/nmea0183.hpp"
 
 namespace nav::emulators {
@@ -90,6 +102,11 @@ std::vector<WireMessage> generate_gps(const GpsConfig& cfg, const TruthTrajector
   NAV_ENSURE(cfg.reacquisition.count() >= 0, "GPS reacquisition must be >= 0");
   NAV_ENSURE(std::isfinite(cfg.heading_std_rad) && cfg.heading_std_rad >= 0.0,
              "GPS heading_std_rad must be finite and >= 0");
+  for (const MeasurementFault& f : cfg.measurement_faults) {
+    NAV_ENSURE(f.start <= f.end, "GPS measurement fault window end must not precede its start");
+    NAV_ENSURE(std::isfinite(f.scale) && std::isfinite(f.bias) && f.jump_n_m.allFinite(),
+               "GPS measurement fault values must be finite");
+  }
 
   const geodesy::LocalTangentPlane ltp(
       geodesy::Geodetic{cfg.datum_lat_rad, cfg.datum_lon_rad, cfg.datum_alt_m});
@@ -124,11 +141,17 @@ std::vector<WireMessage> generate_gps(const GpsConfig& cfg, const TruthTrajector
     gga.time = utc;
     rmc.time = utc;
     if (fix) {
-      const geodesy::Geodetic g = ltp.to_geodetic(s.p_n + noise_p_n);
+      Vec3 p_n = s.p_n + noise_p_n;
+      const Vec3 jump_n = gps_jump_at(cfg.measurement_faults, t_valid);
+      if (jump_n != Vec3::Zero()) p_n += jump_n;  // guarded: keeps -0.0 as it was
+      const geodesy::Geodetic g = ltp.to_geodetic(p_n);
       const double v_north = s.v_n.x() + noise_vn;
       const double v_east = s.v_n.y() + noise_ve;
       const double sog_mps = std::hypot(v_north, v_east);
       if (sog_mps >= kMinSpeedForCourse_mps) last_cog_deg = course_deg(v_north, v_east);
+      // Without an active fault the step is (1 + 0) x + 0 = x exactly (x >= +0).
+      const double sog_reported_mps = std::max(
+          0.0, wrong_at(cfg.measurement_faults, Quantity::kVelocity, t_valid).apply(sog_mps));
 
       gga.lat_deg = units::rad_to_deg(g.lat_rad);
       gga.lon_deg = units::rad_to_deg(g.lon_rad);
@@ -141,7 +164,7 @@ std::vector<WireMessage> generate_gps(const GpsConfig& cfg, const TruthTrajector
       rmc.valid = true;
       rmc.lat_deg = gga.lat_deg;
       rmc.lon_deg = gga.lon_deg;
-      rmc.sog_kn = sog_mps * units::kMpsToKnot;
+      rmc.sog_kn = sog_reported_mps * units::kMpsToKnot;
       rmc.cog_deg = last_cog_deg;
       rmc.mode = 'A';
     } else {

@@ -26,6 +26,20 @@
 //   n1, n2, n3, u1, n4, n5, n6, u2    (n ~ N(0, 1) by standard_normal, u ~ U[0, 1) 53-bit).
 // Only fixes with t_valid < duration are emitted (the draws of later ones are still made).
 //
+// Measurement faults (cfg.measurement_faults, measurement_faults.hpp), by t_valid:
+//   wrong on range, step (s, b) = wrong_at(t_valid): the measured slant range becomes
+//            r~' = max(0, (1 + s) r~ + b), before d~_s is formed (and before any outlier), so
+//            the position moves along the measured direction and propagation_time =
+//            |d~_s| / c follows; times, rssi and accuracy keep the true geometry (the acoustic
+//            round trip itself is not changed by a wrong measurement).
+//   usbl_outliers: a second engine, mt19937_64 seeded with device_seed(seed, "usbl_outliers"),
+//            draws for every interrogation (also dropped ones and those past the end), for
+//            each usbl_outliers fault in list order whose window holds t_valid:
+//              u, m1, m2, m3   (u ~ U[0, 1) 53-bit, m ~ N(0, 1); also when probability is 0)
+//            and iff u < probability: d~_s += outlier_std_m [m1, m2, m3], after the outlier
+//            of the config (both add when both hit). The main engine's draws above do not
+//            change, so the noise of every fix is the same with and without these faults.
+//
 // Fields of USBLLONG (times are the modem clock = utc_start_unix_s + scenario time):
 //   current_time      utc_start + t_send         [s]
 //   measurement_time  utc_start + t_valid        [s]  (reply arrival; the vehicle position
@@ -96,11 +110,23 @@ std::vector<WireMessage> generate_usbl(const UsblConfig& cfg, const TruthTraject
              "USBL probabilities must be in [0, 1]");
   NAV_ENSURE(cfg.processing.count() >= 0, "USBL processing must be >= 0");
   NAV_ENSURE(std::isfinite(cfg.utc_start_unix_s), "USBL utc_start_unix_s must be finite");
+  for (const MeasurementFault& f : cfg.measurement_faults) {
+    NAV_ENSURE(f.start <= f.end, "USBL measurement fault window end must not precede its start");
+    NAV_ENSURE(std::isfinite(f.scale) && std::isfinite(f.bias),
+               "USBL measurement fault scale and bias must be finite");
+    if (f.kind == MeasurementFault::Kind::kUsblOutliers) {
+      NAV_ENSURE(f.probability >= 0.0 && f.probability <= 1.0,
+                 "USBL outlier fault probability must be in [0, 1]");
+      NAV_ENSURE(std::isfinite(f.outlier_std_m) && f.outlier_std_m >= 0.0,
+                 "USBL outlier fault std must be finite and >= 0");
+    }
+  }
 
   const double c = cfg.sound_speed_mps;
   const double yaw_t = wrap_pi(cfg.transceiver_yaw_rad);
   const Mat3 R_nt = Eigen::AngleAxisd(cfg.transceiver_yaw_rad, Vec3::UnitZ()).toRotationMatrix();
   std::mt19937_64 rng(seed);
+  std::mt19937_64 fault_rng(device_seed(seed, "usbl_outliers"));
 
   std::vector<WireMessage> out;
   for (std::int64_t i = 0;; ++i) {
@@ -118,6 +144,18 @@ std::vector<WireMessage> generate_usbl(const UsblConfig& cfg, const TruthTraject
     const double tau_s = one_way_time_s(truth, t_i, cfg.transceiver_p_n, c);
     const Duration t_reply = t_i + from_seconds(tau_s);
     const Duration t_valid = t_i + from_seconds(2.0 * tau_s);
+    Vec3 fault_outlier_s = Vec3::Zero();  // displacement by usbl_outliers faults [m]
+    bool fault_outlier = false;
+    for (const MeasurementFault& f : cfg.measurement_faults) {
+      if (f.kind != MeasurementFault::Kind::kUsblOutliers || !f.active(t_valid)) continue;
+      const bool hit = unit_uniform(fault_rng) < f.probability;
+      Vec3 n;
+      for (int j = 0; j < 3; ++j) n[j] = standard_normal(fault_rng);
+      if (hit) {
+        fault_outlier_s += f.outlier_std_m * n;
+        fault_outlier = true;
+      }
+    }
     if (dropout || t_valid >= duration) continue;
 
     const Vec3 d_s = R_nt.transpose() * (truth.at(t_reply).p_n - cfg.transceiver_p_n);
@@ -125,12 +163,17 @@ std::vector<WireMessage> generate_usbl(const UsblConfig& cfg, const TruthTraject
     const double bearing = std::atan2(d_s.y(), d_s.x());
     const double elevation = std::atan2(d_s.z(), d_s.head<2>().norm());
     const double range_std = cfg.range_std_m + cfg.range_std_fraction * r;
-    const double r_m = r + range_std * n_range;
+    double r_m = r + range_std * n_range;
+    const WrongStep range_step = wrong_at(cfg.measurement_faults, Quantity::kRange, t_valid);
+    if (range_step.scale != 0.0 || range_step.bias != 0.0) {
+      r_m = std::max(0.0, range_step.apply(r_m));
+    }
     const double b_m = bearing + cfg.angle_std_rad * n_bearing;
     const double e_m = elevation + cfg.angle_std_rad * n_elevation;
     Vec3 d_s_m{r_m * std::cos(e_m) * std::cos(b_m), r_m * std::cos(e_m) * std::sin(b_m),
                r_m * std::sin(e_m)};
     if (outlier) d_s_m += cfg.outlier_std_m * n_outlier;
+    if (fault_outlier) d_s_m += fault_outlier_s;
     const Vec3 d_n_m = R_nt * d_s_m;
 
     const Duration t_send = t_valid + cfg.processing;

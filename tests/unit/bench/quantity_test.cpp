@@ -64,6 +64,15 @@ INSTANTIATE_TEST_SUITE_P(
         Case{"500 nT", Dimension::kMagneticField, 500e-9},
         Case{"0.5 G", Dimension::kMagneticField, 0.5e-4},
         Case{"300 mG", Dimension::kMagneticField, 300e-7},
+        // pressure, density, temperature (degC, not K)
+        Case{"101325 Pa", Dimension::kPressure, 101325.0},
+        Case{"1013.25 hPa", Dimension::kPressure, 101325.0},
+        Case{"2.5 kPa", Dimension::kPressure, 2500.0},
+        Case{"1.005 bar", Dimension::kPressure, 100500.0},
+        Case{"-1.5 mbar", Dimension::kPressure, -150.0},
+        Case{"1025 kg/m^3", Dimension::kDensity, 1025.0},
+        Case{"998 kg/m3", Dimension::kDensity, 998.0},
+        Case{"-1.5 degC", Dimension::kTemperature, -1.5},
         // random walks
         Case{"0.05 mg/sqrt(s)", Dimension::kAccelerationWalk, 0.05e-3 * kG},
         Case{"0.001 m/s^2/sqrt(s)", Dimension::kAccelerationWalk, 0.001},
@@ -115,7 +124,10 @@ INSTANTIATE_TEST_SUITE_P(
         Bad{"0x10 s", Dimension::kTime, "unknown unit 'x10 s'"},
         Bad{"1e999 s", Dimension::kTime, "got '1e999 s'"},
         Bad{"--1 s", Dimension::kTime, "got '--1 s'"},
-        Bad{"1 s s", Dimension::kTime, "unknown unit 's s'"}));
+        Bad{"1 s s", Dimension::kTime, "unknown unit 's s'"},
+        Bad{"1 m", Dimension::kPressure, "'m' is a length unit; units: Pa, hPa, kPa, bar, mbar"},
+        Bad{"1 bar", Dimension::kDensity, "'bar' is a pressure unit; units: kg/m^3, kg/m3"},
+        Bad{"283 K", Dimension::kTemperature, "unknown unit 'K'; units: degC"}));
 
 TEST(ParseNumber, AcceptsPlainDecimalsOnly) {
   EXPECT_EQ(parse_number("42"), 42.0);
@@ -152,7 +164,9 @@ TEST(ParseRatio, PercentOrPlain) {
   EXPECT_DOUBLE_EQ(parse_ratio("2%").value(), 0.02);
   EXPECT_DOUBLE_EQ(parse_ratio("0.02").value(), 0.02);
   EXPECT_DOUBLE_EQ(parse_ratio(" 150 % ").value(), 1.5);
-  for (const char* bad : {"", "%", "2 m", "two %", "2 %%"}) {
+  EXPECT_DOUBLE_EQ(parse_ratio("300 ppm").value(), 3e-4);
+  EXPECT_DOUBLE_EQ(parse_ratio("-250ppm").value(), -2.5e-4);
+  for (const char* bad : {"", "%", "2 m", "two %", "2 %%", "ppm", "2 ppm %", "2 PPM"}) {
     ASSERT_FALSE(parse_ratio(bad)) << bad;
     EXPECT_NE(parse_ratio(bad).error().detail.find("expected a ratio such as '2 %' or 0.02"),
               std::string::npos);

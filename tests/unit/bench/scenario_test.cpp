@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <numbers>
@@ -101,12 +102,12 @@ TEST(LoadScenario, SmokeScenarioInSi) {
   EXPECT_EQ(ahrs.baud, 115200);
   EXPECT_EQ(ahrs.gx3.rate_hz, 100.0);
   EXPECT_EQ(ahrs.gx3.latency, 0ns);
-  EXPECT_NEAR(ahrs.gx3.accel.white_std, 0.5 * kMg, 1e-15);
-  EXPECT_NEAR(ahrs.gx3.accel.bias, 2 * kMg, 1e-15);
-  EXPECT_EQ(ahrs.gx3.accel.bias_walk_std, 0.0);
-  EXPECT_NEAR(ahrs.gx3.gyro.white_std, 0.03 * kDeg, 1e-15);
-  EXPECT_NEAR(ahrs.gx3.gyro.bias, 0.05 * kDeg, 1e-15);
-  EXPECT_NEAR(ahrs.gx3.mag.white_std, 0.2e-6, 1e-18);
+  EXPECT_NEAR(ahrs.gx3.accel.random.white_std, 0.5 * kMg, 1e-15);
+  EXPECT_NEAR(ahrs.gx3.accel.random.bias, 2 * kMg, 1e-15);
+  EXPECT_EQ(ahrs.gx3.accel.random.bias_walk_std, 0.0);
+  EXPECT_NEAR(ahrs.gx3.gyro.random.white_std, 0.03 * kDeg, 1e-15);
+  EXPECT_NEAR(ahrs.gx3.gyro.random.bias, 0.05 * kDeg, 1e-15);
+  EXPECT_NEAR(ahrs.gx3.mag.random.white_std, 0.2e-6, 1e-18);
   EXPECT_NEAR(ahrs.gx3.mag_field_n.x(), 20e-6, 1e-18);
   EXPECT_NEAR(ahrs.gx3.mag_field_n.z(), 40e-6, 1e-18);
 
@@ -169,7 +170,7 @@ TEST(LoadScenario, DefaultsOfAMinimalScenario) {
   EXPECT_EQ(d.gx3.latency, 0ns);
   EXPECT_EQ(d.gx3.timer_start_ticks, 0u);
   EXPECT_FALSE(d.gx3_continuous);  // waits for the DUT's start command, like the device
-  EXPECT_EQ(d.gx3.accel.white_std, 0.0);
+  EXPECT_EQ(d.gx3.accel.random.white_std, 0.0);
   EXPECT_EQ(s->dut.output_port, "pty");
   EXPECT_EQ(s->dut.startup, 500ms);
   EXPECT_EQ(s->dut.watchdog, 2s);
@@ -247,11 +248,11 @@ TEST(LoadScenario, OptionalFieldsAndAlternativeSpellings) {
   EXPECT_EQ(ahrs.gx3.rate_hz, 50.0);
   EXPECT_EQ(ahrs.baud, 38400);
   EXPECT_EQ(ahrs.gx3.latency, 2ms);
-  EXPECT_NEAR(ahrs.gx3.accel.bias_walk_std, 0.05 * kMg, 1e-15);
-  EXPECT_NEAR(ahrs.gx3.gyro.bias_walk_std, 0.001 * kDeg, 1e-18);
-  EXPECT_NEAR(ahrs.gx3.gyro.bias, -0.1 * kDeg, 1e-15);
-  EXPECT_NEAR(ahrs.gx3.mag.white_std, 2e-7, 1e-20);
-  EXPECT_NEAR(ahrs.gx3.mag.bias_walk_std, 1e-8, 1e-20);
+  EXPECT_NEAR(ahrs.gx3.accel.random.bias_walk_std, 0.05 * kMg, 1e-15);
+  EXPECT_NEAR(ahrs.gx3.gyro.random.bias_walk_std, 0.001 * kDeg, 1e-18);
+  EXPECT_NEAR(ahrs.gx3.gyro.random.bias, -0.1 * kDeg, 1e-15);
+  EXPECT_NEAR(ahrs.gx3.mag.random.white_std, 2e-7, 1e-20);
+  EXPECT_NEAR(ahrs.gx3.mag.random.bias_walk_std, 1e-8, 1e-20);
   const DeviceSpec& gps = s->devices.at(1);
   EXPECT_EQ(gps.name, "nmea0183-gps");  // the type names an unnamed device
   EXPECT_EQ(gps.port, "/dev/ttyUSB1");
@@ -371,8 +372,8 @@ TEST(LoadScenario, NewDeviceTypesAndFaultsInSi) {
   EXPECT_FALSE(imu.ebimu.accel);
   EXPECT_NEAR(imu.ebimu.attitude_std_rad, 0.1 * kDeg, 1e-15);
   EXPECT_NEAR(imu.ebimu.attitude_bias_rad, -2 * kDeg, 1e-15);
-  EXPECT_NEAR(imu.ebimu.gyro_errors.white_std, 0.01 * kDeg, 1e-15);
-  EXPECT_NEAR(imu.ebimu.accel_errors.bias, kMg, 1e-15);
+  EXPECT_NEAR(imu.ebimu.gyro_errors.random.white_std, 0.01 * kDeg, 1e-15);
+  EXPECT_NEAR(imu.ebimu.accel_errors.random.bias, kMg, 1e-15);
 
   const DeviceSpec& usbl = s->devices[5];
   EXPECT_EQ(usbl.type, DeviceSpec::Type::kEvologicsUsbl);
@@ -416,6 +417,406 @@ TEST(LoadScenario, ByteBudgetCountsOptionalSentences) {
   ASSERT_FALSE(s);
   EXPECT_NE(s.error().detail.find("too low for 4 Hz x 274-byte messages"), std::string::npos)
       << s.error().detail;
+}
+
+TEST(LoadScenario, KellerKeysInSi) {
+  std::string text = kMinimal;
+  text.replace(text.find("dut:"), 0,
+               "    - {name: depth0, type: keller-rs485}\n"
+               "    - name: depth1\n"
+               "      type: keller-rs485\n"
+               "      baud: 19200\n"
+               "      address: 250\n"
+               "      density: 1027.5 kg/m^3\n"
+               "      atmosphere: 1013.25 hPa\n"
+               "      gauge: true\n"
+               "      response_time: 12 ms\n"
+               "      serial_number: 4294967295\n"
+               "      temperature: -1.5 degC\n"
+               "      errors: {pressure: {white: 20 Pa, bias: -1.5 mbar},\n"
+               "               temperature: {white: 0.05 degC}}\n"
+               "      faults:\n"
+               "        - {kind: intermittent, from: 1 s, to: 2 s}\n");
+  const auto s = load_scenario(write_temp("keller.yaml", text));
+  ASSERT_TRUE(s) << s.error().detail;
+  ASSERT_EQ(s->devices.size(), 3u);
+
+  const DeviceSpec& d0 = s->devices[1];  // defaults
+  EXPECT_EQ(d0.type, DeviceSpec::Type::kKeller);
+  EXPECT_EQ(d0.baud, 9600);
+  const emulators::KellerConfig def;
+  EXPECT_EQ(d0.keller.address, def.address);
+  EXPECT_EQ(d0.keller.density_kgpm3, def.density_kgpm3);
+  EXPECT_EQ(d0.keller.atmosphere_pa, def.atmosphere_pa);
+  EXPECT_EQ(d0.keller.gauge, def.gauge);
+  EXPECT_EQ(d0.keller.response_time, def.response_time);
+  EXPECT_EQ(d0.keller.serial_number, def.serial_number);
+  EXPECT_EQ(d0.keller.temperature_degc, def.temperature_degc);
+  EXPECT_EQ(d0.keller.pressure_std_pa, 0.0);
+  EXPECT_TRUE(d0.faults.empty());
+
+  const DeviceSpec& d1 = s->devices[2];
+  EXPECT_EQ(d1.baud, 19200);
+  EXPECT_EQ(d1.keller.address, 250);
+  EXPECT_DOUBLE_EQ(d1.keller.density_kgpm3, 1027.5);
+  EXPECT_DOUBLE_EQ(d1.keller.atmosphere_pa, 101325.0);
+  EXPECT_TRUE(d1.keller.gauge);
+  EXPECT_EQ(d1.keller.response_time, 12ms);
+  EXPECT_EQ(d1.keller.serial_number, 4294967295u);
+  EXPECT_DOUBLE_EQ(d1.keller.temperature_degc, -1.5);
+  EXPECT_DOUBLE_EQ(d1.keller.pressure_std_pa, 20.0);
+  EXPECT_DOUBLE_EQ(d1.keller.pressure_bias_pa, -150.0);
+  EXPECT_DOUBLE_EQ(d1.keller.temperature_std_degc, 0.05);
+  ASSERT_EQ(d1.faults.size(), 1u);
+  EXPECT_EQ(d1.faults[0].kind, emulators::FaultSpec::Kind::kIntermittent);
+  EXPECT_STREQ(device_type_name(DeviceSpec::Type::kKeller), "keller-rs485");
+}
+
+TEST(LoadScenario, KellerRefusals) {
+  const std::vector<std::pair<std::string, std::string>> cases{
+      {"address: 0", "expected an integer from 1 to 250, got '0'"},
+      {"address: 251", "expected an integer from 1 to 250, got '251'"},
+      {"density: 1025", "with no unit (units: kg/m^3, kg/m3)"},
+      {"density: 0 kg/m^3", "expected a positive density"},
+      {"atmosphere: 1 m", "'m' is a length unit; units: Pa, hPa, kPa, bar, mbar"},
+      {"atmosphere: -1 bar", "expected a non-negative pressure"},
+      {"gauge: yes please", "expected true or false"},
+      {"response_time: -1 ms", "expected a non-negative duration"},
+      {"serial_number: -3", "expected an integer from 0 to 4294967295"},
+      {"temperature: 283 K", "expected a temperature such as '10 degC'"},
+      {"errors: {pressure: {white: -1 Pa}}", "expected a non-negative pressure"},
+      {"errors: {pressure: {bias_walk: 1 Pa}}", "unknown key 'bias_walk'"},
+      {"errors: {temperature: {bias: 1 degC}}", "unknown key 'bias'"},
+      {"errors: {depth: {white: 1 m}}", "unknown key 'depth'"},
+      {"rate: 1 Hz", "unknown key 'rate'"},
+      {"latency: 1 ms", "unknown key 'latency'"},
+  };
+  for (const auto& [line, expected] : cases) {
+    std::string text = kMinimal;
+    text.replace(text.find("dut:"), 0,
+                 "    - name: depth\n      type: keller-rs485\n      " + line + "\n");
+    const auto s = load_scenario(write_temp("keller_bad.yaml", text));
+    ASSERT_FALSE(s) << line;
+    EXPECT_NE(s.error().detail.find(":12:"), std::string::npos) << s.error().detail;
+    EXPECT_NE(s.error().detail.find(expected), std::string::npos) << s.error().detail;
+  }
+}
+
+/// kMinimal with the GX3 replaced by one whose `errors` map is `errors` (its first line is
+/// line 12 of the file) and an EBIMU whose `errors` map is `ebimu_errors` (line 17).
+std::string with_sensor_errors(const std::string& errors, const std::string& ebimu_errors) {
+  std::string text = kMinimal;
+  const auto at = text.find("    - {name: ahrs");
+  text.replace(at, text.find("dut:") - at,
+               "    - name: ahrs\n"
+               "      type: microstrain-gx3-25\n"
+               "      errors:\n"
+               "        " + errors + "\n"
+               "    - name: imu\n"
+               "      type: ebimu-9dof\n"
+               "      gyro: true\n"
+               "      errors:\n"
+               "        " + ebimu_errors + "\n");
+  return text;
+}
+
+TEST(LoadScenario, TriadSensorErrorKeysInSi) {
+  const std::string text = with_sensor_errors(
+      "{accel: {white: 0.5 mg, scale: 0.03 %, quantization: 0.1 mg, range: 8 g,\n"
+      "          misalignment: {x: 0.1 deg, y: -0.2 deg, z: 0 deg}},\n"
+      "         gyro: {scale: {x: 300 ppm, y: -0.02 %, z: 0}, range: 300 deg/s,\n"
+      "                quantization: 0.01 deg/s},\n"
+      "         mag: {white: 0.2 uT, range: 2.5 G, hard_iron: {x: 5 uT, y: -2 uT, z: 500 nT},\n"
+      "               soft_iron: [[1.1, 0.05, 0], [0.05, 0.95, 0], [0, 0, 1]]}}",
+      "{gyro: {scale: -500ppm, misalignment: {x: 0 deg, y: 0 deg, z: 0.5 deg}},\n"
+      "         accel: {range: 2 g, quantization: 1 mg, bias: 2 mg}}");
+  const auto s = load_scenario(write_temp("triad_keys.yaml", text));
+  ASSERT_TRUE(s) << s.error().detail;
+  const auto& g = s->devices.at(0).gx3;
+  EXPECT_NEAR(g.accel.random.white_std, 0.5 * kMg, 1e-15);
+  EXPECT_EQ(g.accel.scale_factor, Vec3::Constant(3e-4));
+  EXPECT_NEAR(g.accel.quantum, 0.1 * kMg, 1e-15);
+  EXPECT_NEAR(g.accel.saturation, 8000 * kMg, 1e-12);
+  EXPECT_NEAR(g.accel.misalignment_rad.x(), 0.1 * kDeg, 1e-15);
+  EXPECT_NEAR(g.accel.misalignment_rad.y(), -0.2 * kDeg, 1e-15);
+  EXPECT_EQ(g.accel.misalignment_rad.z(), 0.0);
+  EXPECT_NEAR(g.gyro.scale_factor.x(), 3e-4, 1e-18);
+  EXPECT_NEAR(g.gyro.scale_factor.y(), -2e-4, 1e-18);
+  EXPECT_EQ(g.gyro.scale_factor.z(), 0.0);
+  EXPECT_NEAR(g.gyro.saturation, 300 * kDeg, 1e-12);
+  EXPECT_NEAR(g.gyro.quantum, 0.01 * kDeg, 1e-15);
+  EXPECT_EQ(g.gyro.misalignment_rad, Vec3::Zero());
+  EXPECT_NEAR(g.mag.random.white_std, 0.2e-6, 1e-18);
+  EXPECT_NEAR(g.mag.saturation, 2.5e-4, 1e-18);
+  EXPECT_EQ(g.mag.quantum, 0.0);
+  EXPECT_NEAR(g.iron.hard_iron_T.x(), 5e-6, 1e-18);
+  EXPECT_NEAR(g.iron.hard_iron_T.y(), -2e-6, 1e-18);
+  EXPECT_NEAR(g.iron.hard_iron_T.z(), 5e-7, 1e-18);
+  Mat3 W;
+  W << 1.1, 0.05, 0.0, 0.05, 0.95, 0.0, 0.0, 0.0, 1.0;
+  EXPECT_EQ(g.iron.soft_iron, W);
+
+  const auto& e = s->devices.at(1).ebimu;
+  EXPECT_EQ(e.gyro_errors.scale_factor, Vec3::Constant(-5e-4));
+  EXPECT_NEAR(e.gyro_errors.misalignment_rad.z(), 0.5 * kDeg, 1e-15);
+  EXPECT_TRUE(std::isinf(e.gyro_errors.saturation));
+  EXPECT_NEAR(e.accel_errors.saturation, 2000 * kMg, 1e-12);
+  EXPECT_NEAR(e.accel_errors.quantum, kMg, 1e-15);
+  EXPECT_NEAR(e.accel_errors.random.bias, 2 * kMg, 1e-15);
+
+  // Without the keys: no deterministic error terms, no iron.
+  const auto m = load_scenario(write_temp("triad_defaults.yaml", kMinimal));
+  ASSERT_TRUE(m) << m.error().detail;
+  const auto& d = m->devices.at(0).gx3;
+  EXPECT_EQ(d.accel.scale_factor, Vec3::Zero());
+  EXPECT_EQ(d.gyro.misalignment_rad, Vec3::Zero());
+  EXPECT_TRUE(std::isinf(d.mag.saturation));
+  EXPECT_EQ(d.mag.quantum, 0.0);
+  EXPECT_EQ(d.iron.hard_iron_T, Vec3::Zero());
+  EXPECT_EQ(d.iron.soft_iron, Mat3::Identity());
+}
+
+TEST(LoadScenario, TriadSensorErrorRefusalsAreOneLocatedLine) {
+  struct Case {
+    std::string gx3;       ///< the GX3's errors map
+    std::string ebimu;     ///< the EBIMU's errors map
+    std::string location;  ///< ":LINE:COL: " the message starts with, after the path
+    std::string text;      ///< what the message must contain
+  };
+  const std::string ok = "{gyro: {white: 0.01 deg/s}}";
+  const std::vector<Case> cases{
+      {"{accel: {scale: 60 %}}", ok, ":12:25: ",
+       "errors.accel.scale: expected a scale-factor error below 50 % in magnitude, got '60 %'"},
+      {"{accel: {scale: 2 mg}}", ok, ":12:25: ", "expected a ratio such as '2 %' or 0.02"},
+      {"{gyro: {scale: [1, 2, 3]}}", ok, ":12:24: ",
+       "expected a ratio such as '0.03 %' or '300 ppm', or a map {x, y, z} of ratios, got a list"},
+      {"{gyro: {scale: {x: 1 %, y: 0}}}", ok, ":12:24: ", "missing required key 'z'"},
+      {"{accel: {misalignment: 0.1 deg}}", ok, ":12:32: ",
+       "expected a map {x, y, z} of angles"},
+      {"{accel: {misalignment: {x: 10 deg, y: 0 deg, z: 0 deg}}}", ok, ":12:36: ",
+       "errors.accel.misalignment.x: expected a misalignment angle of at most 5 deg"},
+      {"{accel: {misalignment: {x: 0.1 mg, y: 0 deg, z: 0 deg}}}", ok, ":12:36: ",
+       "expected an angle such as '90 deg'"},
+      {"{accel: {quantization: -1 mg}}", ok, ":12:32: ",
+       "expected a non-negative acceleration"},
+      {"{gyro: {range: 0 deg/s}}", ok, ":12:24: ", "expected a positive angular rate"},
+      {"{accel: {range: 2 g, quantization: 3 g}}", ok, ":12:44: ",
+       "expected a quantization (LSB) no larger than the range '2 g', got '3 g'"},
+      {"{mag: {soft_iron: [[1, 0, 0], [0, 1, 0], [0, 0, -1]]}}", ok, ":12:27: ",
+       "errors.mag.soft_iron: expected a soft-iron matrix with a positive determinant "
+       "(invertible, no reflection), got det = -1"},
+      {"{mag: {soft_iron: [[1, 0, 0], [0, 1, 0]]}}", ok, ":12:27: ", "with at least 3 items"},
+      {"{mag: {soft_iron: [[1, 0, 0], [0, 1, 0], [0, 0, 1], [0, 0, 0]]}}", ok, ":12:27: ",
+       "got 4 rows"},
+      {"{mag: {soft_iron: [[1, 0, 0], [0, 1, 0, 0], [0, 0, 1]]}}", ok, ":12:39: ",
+       "errors.mag.soft_iron[1]: expected a row of 3 plain numbers"},
+      {"{mag: {soft_iron: [[1, 0, 0], [0, 1, 0], [0, 0, 1 uT]]}}", ok, ":12:57: ",
+       "errors.mag.soft_iron[2][2]: expected a plain number (soft iron is dimensionless)"},
+      {"{mag: {hard_iron: {x: 5 mg, y: 0 uT, z: 0 uT}}}", ok, ":12:31: ",
+       "'mg' is an acceleration unit"},
+      {"{mag: {hard_iron: 5 uT}}", ok, ":12:27: ", "expected a map {x, y, z} of magnetic fields"},
+      {"{accel: {hard_iron: {x: 5 uT, y: 0 uT, z: 0 uT}}}", ok, ":12:18: ",
+       "unknown key 'hard_iron'"},
+      {"{}", "{gyro: {quantization: 1 mg}}", ":17:31: ", "'mg' is an acceleration unit"},
+      {"{}", "{accel: {scale: 0.5}}", ":17:25: ", "below 50 % in magnitude"},
+      {"{}", "{gyro: {soft_iron: [[1, 0, 0], [0, 1, 0], [0, 0, 1]]}}", ":17:17: ",
+       "unknown key 'soft_iron'"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.gx3 + " / " + c.ebimu);
+    const std::string path = write_temp("triad_bad.yaml", with_sensor_errors(c.gx3, c.ebimu));
+    const auto s = load_scenario(path);
+    ASSERT_FALSE(s);
+    const std::string& msg = s.error().detail;
+    EXPECT_TRUE(msg.starts_with(path + c.location)) << msg;
+    EXPECT_NE(msg.find(c.text), std::string::npos) << msg;
+    EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+  }
+}
+
+TEST(LoadScenario, MeasurementFaultsGoToTheirDeviceConfig) {
+  std::string text = kMinimal;
+  text.replace(text.find("  path:"), 0, "  seabed: 15 m\n");
+  text.replace(text.find("dut:"), 0,
+               "    - name: ahrs2\n"
+               "      type: microstrain-gx3-25\n"
+               "      faults:\n"
+               "        - {kind: wrong, from: 1 s, to: 2 s, quantity: gyro, bias: 0.5 deg/s}\n"
+               "        - {kind: off, from: 5 s, to: 6 s}\n"
+               "        - {kind: wrong, from: 2 s, to: 3 s, quantity: accel, scale: 2 %,\n"
+               "           bias: 10 mg}\n"
+               "        - {kind: wrong, from: 2 s, to: 4 s, quantity: mag, scale: -1 %}\n"
+               "    - name: gps\n"
+               "      type: nmea0183-gps\n"
+               "      faults:\n"
+               "        - {kind: gps_jump, from: 1 s, to: 3 s, north: 30 m, down: -2 m}\n"
+               "        - {kind: wrong, from: 3 s, to: 4 s, quantity: velocity, bias: 1 kn}\n"
+               "        - {kind: checksum, from: 4 s, to: 5 s}\n"
+               "    - name: dvl\n"
+               "      type: dvl\n"
+               "      protocol: rdi-pd0\n"
+               "      faults:\n"
+               "        - {kind: bottom_lock_loss, from: 2 s, to: 4 s}\n"
+               "        - {kind: wrong, from: 4 s, to: 6 s, quantity: velocity, scale: 5 %}\n"
+               "    - name: imu\n"
+               "      type: ebimu-9dof\n"
+               "      faults:\n"
+               "        - {kind: wrong, from: 1 s, to: 2 s, quantity: attitude, bias: 2 deg}\n"
+               "    - name: usbl\n"
+               "      type: evologics-usbl\n"
+               "      faults:\n"
+               "        - {kind: usbl_outliers, from: 1 s, to: 5 s}\n"
+               "        - {kind: usbl_outliers, from: 5 s, to: 6 s, probability: 30 %, std: 5 m}\n"
+               "        - {kind: wrong, from: 6 s, to: 7 s, quantity: range, bias: -50 cm,\n"
+               "           scale: 1 %}\n"
+               "    - name: depth\n"
+               "      type: keller-rs485\n"
+               "      faults:\n"
+               "        - {kind: wrong, from: 1 s, to: 2 s, quantity: pressure, bias: 10 mbar}\n");
+  const auto s = load_scenario(write_temp("measurement_faults.yaml", text));
+  ASSERT_TRUE(s) << s.error().detail;
+  ASSERT_EQ(s->devices.size(), 7u);
+  using MK = emulators::MeasurementFault::Kind;
+  using Q = emulators::Quantity;
+
+  const DeviceSpec& gx3 = s->devices[1];
+  ASSERT_EQ(gx3.faults.size(), 1u);  // the stream fault stays in faults
+  EXPECT_EQ(gx3.faults[0].kind, emulators::FaultSpec::Kind::kOff);
+  const auto& g = gx3.gx3.measurement_faults;
+  ASSERT_EQ(g.size(), 3u);  // in file order
+  EXPECT_EQ(g[0].kind, MK::kWrong);
+  EXPECT_EQ(g[0].quantity, Q::kGyro);
+  EXPECT_EQ(g[0].start, 1s);
+  EXPECT_EQ(g[0].end, 2s);
+  EXPECT_NEAR(g[0].bias, 0.5 * kDeg, 1e-15);
+  EXPECT_EQ(g[0].scale, 0.0);
+  EXPECT_EQ(g[1].quantity, Q::kAccel);
+  EXPECT_DOUBLE_EQ(g[1].scale, 0.02);
+  EXPECT_NEAR(g[1].bias, 10.0 * kMg, 1e-15);
+  EXPECT_EQ(g[2].quantity, Q::kMag);
+  EXPECT_DOUBLE_EQ(g[2].scale, -0.01);
+  EXPECT_EQ(g[2].bias, 0.0);
+
+  const DeviceSpec& gps = s->devices[2];
+  ASSERT_EQ(gps.faults.size(), 1u);
+  EXPECT_EQ(gps.faults[0].kind, emulators::FaultSpec::Kind::kChecksum);
+  const auto& p = gps.gps.measurement_faults;
+  ASSERT_EQ(p.size(), 2u);
+  EXPECT_EQ(p[0].kind, MK::kGpsJump);
+  EXPECT_EQ(p[0].jump_n_m, Vec3(30.0, 0.0, -2.0));  // east defaults to 0
+  EXPECT_EQ(p[1].kind, MK::kWrong);
+  EXPECT_EQ(p[1].quantity, Q::kVelocity);
+  EXPECT_DOUBLE_EQ(p[1].bias, 1852.0 / 3600.0);
+
+  const DeviceSpec& dvl = s->devices[3];
+  EXPECT_TRUE(dvl.faults.empty());
+  ASSERT_EQ(dvl.dvl.measurement_faults.size(), 2u);
+  EXPECT_EQ(dvl.dvl.measurement_faults[0].kind, MK::kBottomLockLoss);
+  EXPECT_EQ(dvl.dvl.measurement_faults[0].start, 2s);
+  EXPECT_EQ(dvl.dvl.measurement_faults[0].end, 4s);
+  EXPECT_EQ(dvl.dvl.measurement_faults[1].quantity, Q::kVelocity);
+  EXPECT_DOUBLE_EQ(dvl.dvl.measurement_faults[1].scale, 0.05);
+
+  const auto& e = s->devices[4].ebimu.measurement_faults;
+  ASSERT_EQ(e.size(), 1u);
+  EXPECT_EQ(e[0].quantity, Q::kAttitude);
+  EXPECT_NEAR(e[0].bias, 2.0 * kDeg, 1e-15);
+
+  const auto& u = s->devices[5].usbl.measurement_faults;
+  ASSERT_EQ(u.size(), 3u);
+  EXPECT_EQ(u[0].kind, MK::kUsblOutliers);
+  EXPECT_EQ(u[0].probability, 1.0);  // defaults
+  EXPECT_EQ(u[0].outlier_std_m, 20.0);
+  EXPECT_DOUBLE_EQ(u[1].probability, 0.3);
+  EXPECT_EQ(u[1].outlier_std_m, 5.0);
+  EXPECT_EQ(u[2].quantity, Q::kRange);
+  EXPECT_DOUBLE_EQ(u[2].bias, -0.5);
+  EXPECT_DOUBLE_EQ(u[2].scale, 0.01);
+
+  const auto& k = s->devices[6].keller.measurement_faults;
+  ASSERT_EQ(k.size(), 1u);
+  EXPECT_EQ(k[0].quantity, Q::kPressure);
+  EXPECT_DOUBLE_EQ(k[0].bias, 1000.0);
+  EXPECT_TRUE(s->devices[6].faults.empty());
+}
+
+TEST(LoadScenario, MeasurementFaultRefusalsAreOneLineAtTheKey) {
+  struct Case {
+    std::string device;  ///< the device's keys after "type: ", one per line
+    std::string fault;   ///< the fault map, one line
+    std::string expected;
+  };
+  const std::string stream_kinds =
+      "expected one of off, stuck, garbage, slow, delayed, intermittent, checksum, truncated, "
+      "byte_loss, wrong";
+  const std::vector<Case> cases{
+      {"nmea0183-gps", "{kind: bottom_lock_loss, from: 1 s, to: 2 s}",
+       stream_kinds + ", gps_jump (for type nmea0183-gps), got 'bottom_lock_loss', a fault of "
+                      "type dvl only"},
+      {"dvl\n      protocol: rdi-pd0", "{kind: gps_jump, from: 1 s, to: 2 s, north: 1 m}",
+       stream_kinds + ", bottom_lock_loss (for type dvl), got 'gps_jump', a fault of type "
+                      "nmea0183-gps only"},
+      {"microstrain-gx3-25", "{kind: usbl_outliers, from: 1 s, to: 2 s}",
+       stream_kinds + " (for type microstrain-gx3-25), got 'usbl_outliers', a fault of type "
+                      "evologics-usbl only"},
+      {"nmea0183-gps", "{kind: jump, from: 1 s, to: 2 s}",
+       stream_kinds + ", gps_jump, got 'jump'"},
+      {"nmea0183-gps", "{kind: wrong, from: 1 s, to: 2 s, quantity: accel, bias: 1 mg}",
+       "expected one of velocity (for type nmea0183-gps), got 'accel'"},
+      {"microstrain-gx3-25", "{kind: wrong, from: 1 s, to: 2 s, quantity: velocity, scale: 1}",
+       "expected one of accel, gyro, mag (for type microstrain-gx3-25), got 'velocity'"},
+      {"ebimu-9dof", "{kind: wrong, from: 1 s, to: 2 s, quantity: mag, scale: 1 %}",
+       "expected one of attitude, gyro, accel (for type ebimu-9dof), got 'mag'"},
+      {"evologics-usbl", "{kind: wrong, from: 1 s, to: 2 s, quantity: velocity, scale: 1 %}",
+       "expected one of range (for type evologics-usbl), got 'velocity'"},
+      {"keller-rs485", "{kind: wrong, from: 1 s, to: 2 s, quantity: range, scale: 1 %}",
+       "expected one of pressure (for type keller-rs485), got 'range'"},
+      {"nmea0183-gps", "{kind: wrong, from: 1 s, to: 2 s, quantity: velocity}",
+       "a wrong fault needs 'bias', 'scale' or both"},
+      {"nmea0183-gps", "{kind: wrong, from: 1 s, to: 2 s, scale: 1 %}",
+       "missing required key 'quantity'"},
+      {"nmea0183-gps", "{kind: wrong, from: 1 s, to: 2 s, quantity: velocity, bias: 1 m}",
+       "expected a speed such as '1.5 m/s', got '1 m'"},
+      {"microstrain-gx3-25", "{kind: wrong, from: 1 s, to: 2 s, quantity: gyro, bias: 1 mg}",
+       "expected an angular rate"},
+      {"keller-rs485", "{kind: wrong, from: 1 s, to: 2 s, quantity: pressure, bias: 1 m}",
+       "expected a pressure"},
+      {"nmea0183-gps", "{kind: wrong, from: 1 s, to: 2 s, quantity: velocity, scale: lots}",
+       "'lots'"},
+      {"nmea0183-gps", "{kind: wrong, from: 1 s, to: 2 s, quantity: velocity, north: 1 m}",
+       "unknown key 'north' (allowed: kind, from, to, quantity, bias, scale)"},
+      {"nmea0183-gps", "{kind: gps_jump, from: 1 s, to: 2 s}",
+       "a gps_jump fault needs 'north', 'east' or 'down'"},
+      {"nmea0183-gps", "{kind: gps_jump, from: 1 s, to: 2 s, east: 5 s}",
+       "expected a length such as '2.5 m', got '5 s'"},
+      {"dvl\n      protocol: rdi-pd0", "{kind: bottom_lock_loss, from: 1 s, to: 2 s, std: 1 m}",
+       "unknown key 'std' (allowed: kind, from, to)"},
+      {"evologics-usbl", "{kind: usbl_outliers, from: 1 s, to: 2 s, probability: 1.5}",
+       "expected a probability from 0 to 1"},
+      {"evologics-usbl", "{kind: usbl_outliers, from: 1 s, to: 2 s, std: -1 m}",
+       "expected a non-negative length"},
+      {"evologics-usbl", "{kind: usbl_outliers, from: 3 s, to: 2 s}",
+       "expected a fault end after its start"},
+      {"dvl\n      protocol: rdi-pd0", "{kind: bottom_lock_loss, from: 10 s, to: 12 s}",
+       "expected a fault start before the end of the scenario"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.fault);
+    std::string text = kMinimal;
+    text.replace(text.find("  path:"), 0, "  seabed: 15 m\n");
+    text.replace(text.find("dut:"), 0,
+                 "    - name: dev\n      type: " + c.device + "\n      faults:\n        - " +
+                     c.fault + "\n");
+    const auto at = text.find("        - {kind:");
+    const int line = 1 + static_cast<int>(std::count(text.begin(), text.begin() + at, '\n'));
+    const std::string path = write_temp("measurement_fault_bad.yaml", text);
+    const auto s = load_scenario(path);
+    ASSERT_FALSE(s);
+    const std::string& msg = s.error().detail;
+    EXPECT_TRUE(msg.starts_with(path + ":" + std::to_string(line) + ":")) << msg;
+    EXPECT_NE(msg.find(c.expected), std::string::npos) << msg;
+    EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+  }
 }
 
 TEST(LoadScenario, MissingFileSaysWhy) {

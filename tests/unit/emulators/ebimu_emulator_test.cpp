@@ -107,8 +107,8 @@ TEST(EbimuEmulator, NoiseAndBiasHaveTheConfiguredStatistics) {
   cfg.gyro = true;
   cfg.attitude_std_rad = 0.01;
   cfg.attitude_bias_rad = 0.05;
-  cfg.gyro_errors.white_std = 0.02;
-  cfg.gyro_errors.bias = 0.001;
+  cfg.gyro_errors.random.white_std = 0.02;
+  cfg.gyro_errors.random.bias = 0.001;
   const auto msgs = generate_ebimu(cfg, truth, seconds(80), device_seed(42, "ebimu"));
   ASSERT_EQ(msgs.size(), 8000u);
   const double n = static_cast<double>(msgs.size());
@@ -150,8 +150,8 @@ TEST(EbimuEmulator, SameSeedSameBytesAndOutputsDoNotShiftDraws) {
   EbimuConfig with_rates = cfg;
   with_rates.gyro = true;
   with_rates.accel = true;
-  with_rates.gyro_errors.white_std = 0.1;
-  with_rates.accel_errors.bias_walk_std = 0.01;
+  with_rates.gyro_errors.random.white_std = 0.1;
+  with_rates.accel_errors.random.bias_walk_std = 0.01;
   const auto d = generate_ebimu(with_rates, truth, seconds(5), device_seed(7, "ebimu"));
   ASSERT_EQ(a.size(), 500u);
   ASSERT_EQ(d.size(), 500u);
@@ -163,6 +163,73 @@ TEST(EbimuEmulator, SameSeedSameBytesAndOutputsDoNotShiftDraws) {
     EXPECT_EQ(*decode(a[k], cfg).euler_deg, *decode(d[k], with_rates).euler_deg) << k;
   }
   EXPECT_GE(differ, 495);
+}
+
+MeasurementFault wrong_fault(Quantity q, double from_s, double to_s, double scale,
+                             double bias) {
+  MeasurementFault f;
+  f.kind = MeasurementFault::Kind::kWrong;
+  f.quantity = q;
+  f.start = from_seconds(from_s);
+  f.end = from_seconds(to_s);
+  f.scale = scale;
+  f.bias = bias;
+  return f;
+}
+
+TEST(EbimuEmulator, SensorTermsThenWrongFaultsOnTheMeasuredValues) {
+  const TruthTrajectory truth = manoeuvring_truth();
+  EbimuConfig clean;
+  clean.gyro = true;
+  clean.accel = true;
+  clean.gyro_errors.scale_factor = Vec3(0.02, -0.01, 0.03);
+  clean.accel_errors.saturation = 0.5 * units::kStandardGravity;  // z (about -1 g) clipped
+  EbimuConfig faulty = clean;
+  faulty.measurement_faults = {wrong_fault(Quantity::kAttitude, 1.0, 2.0, 0.0, 0.1),
+                               wrong_fault(Quantity::kGyro, 2.0, 3.0, 0.5, 0.0),
+                               wrong_fault(Quantity::kAccel, 3.0, 4.0, 0.0, 1.0)};
+  const auto a = generate_ebimu(clean, truth, seconds(6), 5);
+  const auto b = generate_ebimu(faulty, truth, seconds(6), 5);
+  EbimuConfig quat = faulty;
+  quat.quaternion = true;
+  const auto c = generate_ebimu(quat, truth, seconds(6), 5);
+  ASSERT_EQ(a.size(), 600u);
+  ASSERT_EQ(b.size(), 600u);
+  const double tol = 0.01 + 1e-9;  // two values, each rounded to 0.005 [deg], [deg/s]
+  const double bias_deg = units::rad_to_deg(0.1);
+  const double bias_g = 1.0 / units::kStandardGravity;
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    const double t = to_seconds(a[k].t_valid);
+    const ebimu::Sample ma = decode(a[k], clean), mb = decode(b[k], faulty);
+    const ebimu::Sample mc = decode(c[k], quat);
+    const TruthSample s = truth.at(a[k].t_valid);
+    ASSERT_EQ((*ma.accel_g)[2], -0.5) << t;  // saturated before any fault
+    for (int i = 0; i < 3; ++i) {
+      const double w_dps = units::rad_to_deg((1.0 + clean.gyro_errors.scale_factor[i]) *
+                                             s.omega_b[i]);
+      ASSERT_NEAR((*ma.gyro_dps)[i], w_dps, 0.005 + 1e-9) << t;
+    }
+    // Quaternion output encodes the same (faulty) angles as the Euler output.
+    const Quat q_nb((*mc.quat_wxyz)[0], (*mc.quat_wxyz)[1], (*mc.quat_wxyz)[2],
+                    (*mc.quat_wxyz)[3]);
+    const Euler e_c = euler_from_quat(q_nb.normalized());
+    for (int i = 0; i < 3; ++i) {
+      const double angle_c = units::rad_to_deg(i == 0 ? e_c.roll : i == 1 ? e_c.pitch : e_c.yaw);
+      ASSERT_NEAR(diff_deg(angle_c, (*mb.euler_deg)[i]), 0.0, 0.05) << t << " angle " << i;
+    }
+    if (t < 1.0 || t >= 4.0) {
+      ASSERT_EQ(a[k].bytes, b[k].bytes) << t;  // outside every window: nothing drawn, nothing
+      continue;                                // changed
+    }
+    for (int i = 0; i < 3; ++i) {
+      const double d_att = diff_deg((*mb.euler_deg)[i], (*ma.euler_deg)[i]);
+      EXPECT_NEAR(d_att, t < 2.0 ? bias_deg : 0.0, tol) << t << " angle " << i;
+      EXPECT_NEAR((*mb.gyro_dps)[i], (t >= 2.0 && t < 3.0 ? 1.5 : 1.0) * (*ma.gyro_dps)[i],
+                  1.5 * tol) << t << " gyro " << i;
+      EXPECT_NEAR((*mb.accel_g)[i], (*ma.accel_g)[i] + (t >= 3.0 ? bias_g : 0.0), 0.001 + 1e-9)
+          << t << " accel " << i;
+    }
+  }
 }
 
 }  // namespace

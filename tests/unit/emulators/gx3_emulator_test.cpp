@@ -101,9 +101,9 @@ TEST(Gx3Emulator, OddRatesSampleAtKOverRate) {
 
 Gx3Config noisy_config() {
   Gx3Config cfg;
-  cfg.accel = TriadErrors{0.02, 0.05, 0.0};   // [m/s^2]
-  cfg.gyro = TriadErrors{1e-3, -2e-3, 0.0};   // [rad/s]
-  cfg.mag = TriadErrors{2e-7, 1e-6, 0.0};     // [T]
+  cfg.accel.random = TriadErrors{0.02, 0.05, 0.0};   // [m/s^2]
+  cfg.gyro.random = TriadErrors{1e-3, -2e-3, 0.0};   // [rad/s]
+  cfg.mag.random = TriadErrors{2e-7, 1e-6, 0.0};     // [T]
   return cfg;
 }
 
@@ -139,9 +139,9 @@ TEST(Gx3Emulator, NoisyOutputHasTheConfiguredErrors) {
       EXPECT_NEAR(std[i], e.white_std, 0.05 * e.white_std) << what << " axis " << i;
     }
   };
-  check(sum_a, sum2_a, cfg.accel, "accel");
-  check(sum_g, sum2_g, cfg.gyro, "gyro");
-  check(sum_m, sum2_m, cfg.mag, "mag");
+  check(sum_a, sum2_a, cfg.accel.random, "accel");
+  check(sum_g, sum2_g, cfg.gyro.random, "gyro");
+  check(sum_m, sum2_m, cfg.mag.random, "mag");
 }
 
 TEST(Gx3Emulator, SameSeedSameBytesOtherDeviceOtherBytes) {

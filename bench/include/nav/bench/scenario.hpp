@@ -14,6 +14,7 @@
 #include "nav/emulators/dvl_emulator.hpp"
 #include "nav/emulators/ebimu_emulator.hpp"
 #include "nav/emulators/faults.hpp"
+#include "nav/emulators/keller_emulator.hpp"
 #include "nav/emulators/usbl_emulator.hpp"
 #include "nav/emulators/truth.hpp"
 
@@ -23,7 +24,7 @@ enum class TimeMode { kRealtime, kLockstep };
 
 /// One emulated device on its own serial line.
 struct DeviceSpec {
-  enum class Type { kMicrostrainGx3, kNmeaGps, kDvl, kEbimu, kEvologicsUsbl };
+  enum class Type { kMicrostrainGx3, kNmeaGps, kDvl, kEbimu, kEvologicsUsbl, kKeller };
   std::string name;     ///< unique in the scenario; used in "{port:NAME}" and captures
   Type type = Type::kMicrostrainGx3;
   std::string port = "pty";  ///< "pty" or a device path such as /dev/ttyUSB0
@@ -36,7 +37,10 @@ struct DeviceSpec {
   emulators::DvlConfig dvl;  ///< when type == kDvl (seabed from vehicle.seabed)
   emulators::EbimuConfig ebimu;  ///< when type == kEbimu
   emulators::UsblConfig usbl;    ///< when type == kEvologicsUsbl
-  /// Faults applied to the encoded stream, in file order (windows inside [0, duration)).
+  /// when type == kKeller: a polled device, it sends only answers to the DUT's requests
+  emulators::KellerConfig keller;
+  /// Faults applied to the encoded stream (for a Keller: to its answers), in file order
+  /// (windows inside [0, duration)). Measurement faults live in the type's config.
   std::vector<emulators::FaultSpec> faults;
 };
 

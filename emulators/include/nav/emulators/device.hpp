@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "nav/common/time.hpp"
+#include "nav/emulators/measurement_faults.hpp"
 #include "nav/emulators/truth.hpp"
 #include "nav/protocols/parse.hpp"
 
@@ -136,10 +137,13 @@ struct Gx3Config {
   double rate_hz = 100.0;              ///< output rate [Hz]
   Duration latency{0};                 ///< time of validity -> first byte [ns]
   std::uint32_t timer_start_ticks = 0; ///< timer value at scenario time 0 [ticks]
-  TriadErrors accel;                   ///< [m/s^2]
-  TriadErrors gyro;                    ///< [rad/s]
-  TriadErrors mag;                     ///< [T]
+  TriadSensorErrors accel;             ///< accelerometer errors, sensor = body FRD [m/s^2]
+  TriadSensorErrors gyro;              ///< gyro errors, sensor = body FRD [rad/s]
+  TriadSensorErrors mag;               ///< magnetometer's own errors, sensor = body FRD [T]
+  HardSoftIron iron;                   ///< vehicle's hard/soft iron at the magnetometer,
+                                       ///< acting before `mag` (MagnetometerErrorModel)
   Vec3 mag_field_n{2.0e-5, 0.0, 4.0e-5};  ///< Earth field at the datum, NED [T]
+  std::vector<MeasurementFault> measurement_faults;  ///< `wrong` on kAccel, kGyro, kMag
 };
 
 /// Generates every 0xCB packet of [0, duration). trigger_tag = the timer field.
@@ -162,6 +166,7 @@ struct GpsConfig {
   bool zda = false;                    ///< also emit ZDA each epoch
   Duration reacquisition{0};           ///< no fix this long after surfacing [ns]
   double heading_std_rad = 0.0;        ///< HDT white noise [rad]
+  std::vector<MeasurementFault> measurement_faults;  ///< gps_jump; `wrong` on kVelocity
 };
 
 /// Generates every GGA+RMC pair of [0, duration) (one WireMessage per epoch, both sentences).

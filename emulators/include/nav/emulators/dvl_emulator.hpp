@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "nav/emulators/device.hpp"
+#include "nav/emulators/measurement_faults.hpp"
 
 namespace nav::emulators {
 
@@ -28,6 +29,7 @@ struct DvlConfig {
   double utc_start_unix_s = 1780315200.0;  ///< clock at scenario time 0 (PD0/A50 time) [s]
   double temperature_degc = 10.0;       ///< reported water temperature (PD0/PD6/NQ1) [°C]
   double salinity_ppt = 35.0;           ///< reported salinity (PD0/PD6/NQ1) [ppt]
+  std::vector<MeasurementFault> measurement_faults;  ///< bottom_lock_loss; `wrong` on kVelocity
 };
 
 /// Every ping of [0, duration): velocity of the vehicle w.r.t. the seabed in the

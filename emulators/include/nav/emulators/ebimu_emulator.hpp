@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "nav/emulators/device.hpp"
+#include "nav/emulators/measurement_faults.hpp"
 
 namespace nav::emulators {
 
@@ -18,8 +19,9 @@ struct EbimuConfig {
   bool accel = false;              ///< append specific force
   double attitude_std_rad = 0.0;   ///< white noise on each attitude angle [rad]
   double attitude_bias_rad = 0.0;  ///< constant heading bias (e.g. magnetic disturbance) [rad]
-  TriadErrors gyro_errors;         ///< [rad/s]
-  TriadErrors accel_errors;        ///< [m/s^2]
+  TriadSensorErrors gyro_errors;   ///< angular-rate errors, body FRD [rad/s]
+  TriadSensorErrors accel_errors;  ///< specific-force errors, body FRD [m/s^2]
+  std::vector<MeasurementFault> measurement_faults;  ///< `wrong` on kAttitude, kGyro, kAccel
 };
 
 std::vector<WireMessage> generate_ebimu(const EbimuConfig& cfg, const TruthTrajectory& truth,

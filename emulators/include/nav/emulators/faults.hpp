@@ -45,4 +45,9 @@ std::vector<WireMessage> apply_faults(std::vector<WireMessage> messages,
                                       const std::vector<FaultSpec>& faults, std::uint64_t seed,
                                       std::vector<FaultRecord>* records);
 
+/// The report line of a measurement fault: its window and the number of messages of the
+/// device's final stream whose time of validity lies in it.
+FaultRecord measurement_fault_record(const MeasurementFault& f,
+                                     const std::vector<WireMessage>& stream);
+
 }  // namespace nav::emulators

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "nav/emulators/device.hpp"
+#include "nav/emulators/measurement_faults.hpp"
 
 namespace nav::emulators {
 
@@ -25,6 +26,7 @@ struct UsblConfig {
   bool angles_only = false;             ///< USBLANGLES instead of USBLLONG
   Duration processing{std::chrono::milliseconds(100)};  ///< after the reply arrives [ns]
   double utc_start_unix_s = 1780315200.0;  ///< clock at scenario time 0 [s]
+  std::vector<MeasurementFault> measurement_faults;  ///< usbl_outliers; `wrong` on kRange
 };
 
 /// One line per fix; t_valid = reply arrival at the transceiver, t_send = t_valid +
