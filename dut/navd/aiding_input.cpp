@@ -17,13 +17,14 @@ namespace a50 = protocols::waterlinked_a50;
 namespace ebimu = protocols::ebimu;
 namespace evo = protocols::evologics;
 namespace nmea = protocols::nmea;
+namespace keller = protocols::keller;
 
 struct ProtocolEntry {
   InputProtocol protocol;
   std::string_view name;
 };
 
-constexpr std::array<ProtocolEntry, 7> kProtocols = {{
+constexpr std::array<ProtocolEntry, 8> kProtocols = {{
     {InputProtocol::kNq1, "nq1"},
     {InputProtocol::kPd0, "pd0"},
     {InputProtocol::kPd6, "pd6"},
@@ -31,6 +32,7 @@ constexpr std::array<ProtocolEntry, 7> kProtocols = {{
     {InputProtocol::kEbimu, "ebimu"},
     {InputProtocol::kUsbl, "usbl"},
     {InputProtocol::kNmea, "nmea"},
+    {InputProtocol::kKeller, "keller"},
 }};
 
 constexpr std::size_t kMaxNameLength = 32;
@@ -41,6 +43,10 @@ bool name_char(char c) {
 
 /// Evologics notifications start with '+' (data mode) or an upper-case letter (command mode).
 bool usbl_sync(std::uint8_t b) { return b == '+' || (b >= 'A' && b <= 'Z'); }
+
+/// A Keller frame has no sync byte; it starts with a bus address (0..250), so only bytes
+/// above 250 count as skipped while hunting.
+bool keller_sync(std::uint8_t b) { return b <= keller::kMaxAddress; }
 
 tl::unexpected<Error> spec_error(std::string_view text, const std::string& why) {
   return fail(ErrorCode::kInvalidArgument,
@@ -69,7 +75,9 @@ std::string protocol_names() {
   return s;
 }
 
-int default_baud(InputProtocol p) { return p == InputProtocol::kNmea ? 9600 : 115200; }
+int default_baud(InputProtocol p) {
+  return p == InputProtocol::kNmea || p == InputProtocol::kKeller ? 9600 : 115200;
+}
 
 Result<InputSpec> parse_input_spec(std::string_view text, const std::vector<int>& bauds) {
   const auto eq = text.find('=');
@@ -155,6 +163,8 @@ AidingInput::Decoder AidingInput::make_decoder(InputProtocol protocol, std::size
       return StreamDecoder<ebimu::Line>(&ebimu::parse, ebimu::kStartOfLine, max_buffer);
     case InputProtocol::kUsbl:
       return StreamDecoder<evo::Notification>(&evo::parse, &usbl_sync, max_buffer);
+    case InputProtocol::kKeller:
+      return StreamDecoder<keller::Response>(&keller::parse_response, &keller_sync, max_buffer);
     case InputProtocol::kNmea:
       break;
   }
@@ -190,6 +200,12 @@ InputRejects AidingInput::rejects() const {
 
 std::size_t AidingInput::buffered() const {
   return std::visit([](const auto& d) { return d.buffered(); }, decoder_);
+}
+
+std::vector<keller::Response> AidingInput::take_keller_answers() {
+  std::vector<keller::Response> out;
+  out.swap(keller_answers_);
+  return out;
 }
 
 std::string AidingInput::counters_text() const {
@@ -330,6 +346,27 @@ void AidingInput::on_message(const nmea::Sentence& m) {
     return;
   }
   count(m.type);
+  last_ = m;
+}
+
+void AidingInput::on_message(const keller::Response& m) {
+  std::visit(
+      [this](const auto& body) {
+        using T = std::decay_t<decltype(body)>;
+        if constexpr (std::is_same_v<T, keller::InitInfo>) {
+          count("F48");
+        } else if constexpr (std::is_same_v<T, keller::SerialNumber>) {
+          count("F69");
+        } else if constexpr (std::is_same_v<T, keller::ChannelValue>) {
+          count("F73");
+        } else if constexpr (std::is_same_v<T, keller::ZeroAck>) {
+          count("F95");
+        } else {
+          count("exception");
+        }
+      },
+      m.body);
+  keller_answers_.push_back(m);
   last_ = m;
 }
 

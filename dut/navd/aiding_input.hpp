@@ -2,7 +2,8 @@
 // navd's generic extra inputs (`--input NAME=PROTOCOL:PATH[@BAUD]`): the spec parser and the
 // per-port front end. An AidingInput runs one StreamDecoder over the protocol's tri-state
 // codec, counts messages by type and rejects by reason, and keeps the last decoded message.
-// Pure (no I/O): navd_app.cpp reads the port and feeds the bytes.
+// Pure (no I/O): navd_app.cpp reads the port and feeds the bytes. A Keller bus input is
+// polled: its AidingInput decodes the answers, keller_poller.hpp decides what to ask.
 #pragma once
 
 #include <array>
@@ -17,6 +18,7 @@
 #include "nav/common/result.hpp"
 #include "nav/protocols/ebimu.hpp"
 #include "nav/protocols/evologics_usbl.hpp"
+#include "nav/protocols/keller_bus.hpp"
 #include "nav/protocols/navquest_nq1.hpp"
 #include "nav/protocols/nmea0183.hpp"
 #include "nav/protocols/rdi_pd0.hpp"
@@ -34,16 +36,17 @@ enum class InputProtocol {
   kA50,    ///< Water Linked DVL-A50 packets ("a50")
   kEbimu,  ///< E2BOX EBIMU ASCII lines ("ebimu")
   kUsbl,   ///< EvoLogics USBLLONG / USBLANGLES ("usbl")
-  kNmea,   ///< NMEA 0183 sentences ("nmea")
+  kNmea,    ///< NMEA 0183 sentences ("nmea")
+  kKeller,  ///< Keller RS-485 bus answers, polled by navd ("keller")
 };
 
 /// The protocol's name on the command line, e.g. "pd0".
 std::string_view protocol_name(InputProtocol p);
 
-/// "nq1, pd0, pd6, a50, ebimu, usbl, nmea" (for --help and errors).
+/// "nq1, pd0, pd6, a50, ebimu, usbl, nmea, keller" (for --help and errors).
 std::string protocol_names();
 
-/// Baud used when the spec gives none: 9600 for NMEA, 115200 otherwise [bit/s].
+/// Baud used when the spec gives none: 9600 for NMEA and Keller, 115200 otherwise [bit/s].
 int default_baud(InputProtocol p);
 
 /// One `--input NAME=PROTOCOL:PATH[@BAUD]`.
@@ -79,7 +82,8 @@ class AidingInput {
   using Message = std::variant<std::monostate, protocols::navquest_nq1::Nq1,
                                protocols::rdi_pd0::Ensemble, protocols::rdi_pd6::Line,
                                protocols::waterlinked_a50::Packet, protocols::ebimu::Line,
-                               protocols::evologics::Notification, protocols::nmea::Sentence>;
+                               protocols::evologics::Notification, protocols::nmea::Sentence,
+                               protocols::keller::Response>;
 
   /// max_buffer: bound on undecoded bytes for every protocol but PD0, whose ensembles can
   /// be 64 KiB long and get kPd0BufferBytes [bytes].
@@ -96,6 +100,10 @@ class AidingInput {
   InputRejects rejects() const;
   std::size_t buffered() const;  ///< undecoded bytes held
   const Message& last() const { return last_; }
+
+  /// Keller answers decoded since the last call, in stream order (cleared by the call);
+  /// always empty for other protocols. navd hands them to its KellerPoller.
+  std::vector<protocols::keller::Response> take_keller_answers();
 
   /// Vehicle velocity of the last DVL message that carried a valid one, in the frame the
   /// DVL reports it (PD0/NQ1: as configured, PD6 :BI/:BE, A50 wrz: DVL frame) [m/s].
@@ -116,6 +124,7 @@ class AidingInput {
   void on_message(const protocols::ebimu::Line& m);
   void on_message(const protocols::evologics::Notification& m);
   void on_message(const protocols::nmea::Sentence& m);
+  void on_message(const protocols::keller::Response& m);
   void count(const std::string& type) { ++by_type_[type]; }
 
   using Decoder = std::variant<StreamDecoder<protocols::navquest_nq1::Nq1>,
@@ -124,7 +133,8 @@ class AidingInput {
                                StreamDecoder<protocols::waterlinked_a50::Packet>,
                                StreamDecoder<protocols::ebimu::Line>,
                                StreamDecoder<protocols::evologics::Notification>,
-                               StreamDecoder<protocols::nmea::Sentence>>;
+                               StreamDecoder<protocols::nmea::Sentence>,
+                               StreamDecoder<protocols::keller::Response>>;
   static Decoder make_decoder(InputProtocol protocol, std::size_t max_buffer);
 
   std::string name_;
@@ -134,6 +144,7 @@ class AidingInput {
   std::uint64_t field_errors_ = 0;
   Message last_;
   std::optional<std::array<double, 3>> velocity_;
+  std::vector<protocols::keller::Response> keller_answers_;  ///< not yet taken
 };
 
 }  // namespace nav::dut

@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: MIT
 // navd: the reference DUT of navbench. Reads a MicroStrain 3DM-GX3-25 (0xCB packets), an
 // NMEA 0183 GPS (GGA/RMC; VTG/HDT/ZDA counted) and any number of extra aiding inputs
-// (--input: DVLs, USBL, EBIMU, NMEA; decoded and counted, not yet fused) from serial ports,
-// estimates, and writes one $PNVBSOL solution per AHRS packet to an output serial port
-// (docs/dut-contract.md).
+// (--input: DVLs, USBL, EBIMU, NMEA decoded and counted, not yet fused; a Keller RS-485
+// depth sensor polled and fused) from serial ports, estimates, and writes one $PNVBSOL
+// solution per AHRS packet to an output serial port (docs/dut-contract.md).
 //
 // Exit codes: 0 SIGTERM/SIGINT, output hang-up, or every input at EOF/hang-up;
 //             2 bad usage or config; 3 a port cannot be opened.
@@ -35,7 +35,8 @@ constexpr const char* kDescription =
     "pty slaves, raw 8N1), estimates attitude (complementary filter) and position/velocity "
     "(Kalman filter anchored at the first GPS fix), and writes one $PNVBSOL solution per AHRS "
     "packet. Extra aiding inputs (--input: DVL, USBL, EBIMU, NMEA) are decoded, counted and "
-    "kept, not yet fused.";
+    "kept, not yet fused; a Keller RS-485 depth sensor (--input NAME=keller:PATH) is polled "
+    "and its depth fused.";
 
 std::string footer() {
   return "Output format: for every AHRS 0xCB packet navd writes exactly one line "
@@ -51,13 +52,25 @@ std::string footer() {
          "Extra inputs: --input NAME=PROTOCOL:PATH[@BAUD], repeatable. NAME is the port's "
          "role in the summary (1-32 of a-z 0-9 _ -, unique, not ahrs/gps/output); PROTOCOL is "
          "nq1 (NavQuest NQ1 lines), pd0 (RDI PD0 ensembles), pd6 (RDI PD6 lines), a50 (Water "
-         "Linked A50 packets), ebimu (EBIMU lines), usbl (EvoLogics USBLLONG/USBLANGLES) or "
-         "nmea (NMEA 0183); BAUD defaults to 9600 for nmea and 115200 otherwise. Example: "
+         "Linked A50 packets), ebimu (EBIMU lines), usbl (EvoLogics USBLLONG/USBLANGLES), "
+         "nmea (NMEA 0183) or keller (Keller RS-485 pressure transmitter); BAUD defaults to "
+         "9600 for nmea and keller and 115200 otherwise. Example: "
          "--input dvl=pd0:/dev/pts/5@115200. Every input has its own decoder; its messages are "
          "counted by type, malformed bytes are dropped and counted by reason (checksum, "
-         "framing, sync_bytes, overflow_bytes, fields), and the estimate does not use them yet. "
+         "framing, sync_bytes, overflow_bytes, fields), and the estimate does not use them yet, "
+         "except keller. "
          "All inputs are read in the same loop, the AHRS first, and every aiding message is "
          "handled before the AHRS packets of the same wake-up.\n\n"
+         "Keller depth sensor: navd is the bus master. It sends F48 (init) to address 250 "
+         "(transparent: the single device on the bus answers) at start, then every "
+         "depth_poll_period_s of AHRS timer time (the first a period after the first AHRS "
+         "packet) one F73 channel 1 (P1) request, written before "
+         "the solution of the AHRS packet that made it due; one request is outstanding at a "
+         "time, an unanswered one counts as a timeout at the next poll, exception 32 (not "
+         "initialised) makes navd send F48 again. depth = (P1 - depth_atmosphere_pa) / "
+         "(depth_density_kgpm3 * 9.80665) is fused as the down position (std depth_std_m) once "
+         "a GPS fix has anchored the local plane. Example: --input depth=keller:/dev/pts/6@9600."
+         "\n\n"
          "Exit codes: 0 on SIGTERM/SIGINT, output hang-up, or when every input reached "
          "EOF/hang-up; 2 bad usage or config; 3 a port cannot be opened. A one-line summary "
          "(every port's counters) goes to stderr on exit.\n\n"
@@ -97,7 +110,7 @@ int run(int argc, char** argv) {
   app.add_option("--input", input_specs,
                  "extra aiding input NAME=PROTOCOL:PATH[@BAUD], repeatable; PROTOCOL one of " +
                      nav::dut::protocol_names() +
-                     " (decoded and counted, not fused; see below)")
+                     " (decoded and counted, not fused, except keller; see below)")
       ->take_all()
       ->allow_extra_args(false);
   app.add_option("--output", opt.output_path, "tty the $PNVBSOL solutions are written to")

@@ -92,11 +92,34 @@ NavdApp::NavdApp(const NavdOptions& options, const estimator::FilterParams& para
       ahrs_decoder_(&protocols::gx3::parse, protocols::gx3::kCmdAccelRateMag, kInputBufferBytes),
       gps_decoder_(&protocols::nmea::parse, static_cast<std::uint8_t>('$'), kInputBufferBytes),
       out_(output_, kOutputQueueBytes),
+      params_(params),
       navigator_(params) {
   extras_.reserve(extras.size());
   for (auto& e : extras) {
-    extras_.push_back(Extra{std::move(e.port),
-                            AidingInput(e.spec.name, e.spec.protocol, kInputBufferBytes), true});
+    Extra x{std::move(e.port), AidingInput(e.spec.name, e.spec.protocol, kInputBufferBytes),
+            true, std::nullopt, 0};
+    if (e.spec.protocol == InputProtocol::kKeller) x.poller.emplace(params.depth_poll_period_s);
+    extras_.push_back(std::move(x));
+  }
+}
+
+void NavdApp::write_request(Extra& e, const protocols::Bytes& request) {
+  if (request.empty() || !e.open) return;
+  // A request is a few bytes on an otherwise idle line: it fits unless nobody reads the bus.
+  // A short write garbles this request only (the device drops it by CRC); it then times out.
+  auto n = e.port.write_some(request);
+  if (!n || *n != request.size()) ++e.write_errors;
+}
+
+void NavdApp::handle_keller_answers() {
+  for (auto& e : extras_) {
+    if (!e.poller) continue;
+    for (const auto& answer : e.input.take_keller_answers()) {
+      if (const auto p1_bar = e.poller->on_answer(answer)) {
+        navigator_.add_depth(depth_from_p1_bar(*p1_bar, params_.depth_atmosphere_pa,
+                                               params_.depth_density_kgpm3));
+      }
+    }
   }
 }
 
@@ -205,6 +228,10 @@ bool NavdApp::wait_delay() {
 }
 
 bool NavdApp::handle_ahrs(const protocols::gx3::AccelRateMag& m) {
+  // Requests due at this sample go out before its solution (lockstep: see navd_app.hpp).
+  for (auto& e : extras_) {
+    if (e.poller) write_request(e, e.poller->on_ahrs(m.timer_ticks));
+  }
   navigator_.on_ahrs(to_sample(m));
   const auto solution = to_solution(navigator_.solution(), m.timer_ticks, seq_++);
   if (!wait_delay()) return false;
@@ -220,6 +247,11 @@ std::string NavdApp::run() {
   std::vector<protocols::nmea::Sentence> gps_msgs;
   constexpr std::size_t kFixedFds = 4;
   std::vector<pollfd> fds;
+  // Keller sensors are initialised as soon as navd runs (the bench answers a request made
+  // during the DUT's start-up as at scenario time 0).
+  for (auto& e : extras_) {
+    if (e.poller) write_request(e, e.poller->start());
+  }
   while (stop_reason_.empty()) {
     // Index 0 signals, 1 AHRS, 2 GPS, 3 output, 4.. the --input ports; a closed input is
     // skipped (fd -1).
@@ -257,6 +289,7 @@ std::string NavdApp::run() {
     }
 
     for (const auto& s : gps_msgs) handle_gps(s);
+    handle_keller_answers();
     for (const auto& m : ahrs_msgs) {
       if (!handle_ahrs(m)) break;
     }
@@ -300,6 +333,10 @@ std::string NavdApp::stats_line(const std::string& reason) const {
   for (const auto& e : extras_) {
     s += "; input " + e.input.name() + "=" + std::string(protocol_name(e.input.protocol())) +
          " " + e.input.counters_text();
+    if (e.poller) {
+      s += " poll{" + e.poller->counters_text() +
+           " write_errors=" + std::to_string(e.write_errors) + "}";
+    }
   }
   s += "; solutions written=" + std::to_string(out_.written()) +
        " dropped=" + std::to_string(out_.dropped()) +
@@ -309,6 +346,9 @@ std::string NavdApp::stats_line(const std::string& reason) const {
        " gps_pos_fused=" + std::to_string(nav.gps_position_fused) +
        " gps_vel_fused=" + std::to_string(nav.gps_velocity_fused) +
        " gps_rejected=" + std::to_string(nav.gps_rejected_invalid + nav.gps_rejected_gate) +
+       " depth_fused=" + std::to_string(nav.depth_fused) +
+       " depth_unanchored=" + std::to_string(nav.depth_unanchored) +
+       " depth_rejected=" + std::to_string(nav.depth_rejected_invalid) +
        " numerical_faults=" + std::to_string(nav.numerical_faults);
   return s;
 }

@@ -4,23 +4,30 @@
 //   bench/devices ──AHRS 0xCB──▶ [ahrs tty] ─┐
 //                 ──NMEA GGA/RMC▶ [gps tty] ─┤
 //                 ──DVL/USBL/..─▶ [--input] ─┼─ poll() ─▶ wake:
-//   SIGTERM/SIGINT ──────────────▶ [signalfd]┘    1. read every readable input until EAGAIN,
-//                                                    trigger port (AHRS) first, then GPS,
+//   Keller (polled) ◀─requests─▶ [--input] ─┤    1. read every readable input until EAGAIN,
+//   SIGTERM/SIGINT ──────────────▶ [signalfd]┘       trigger port (AHRS) first, then GPS,
 //                                                    then the --input ports in command-line
 //                                                    order; feed each port's stream decoder
 //                                                    (--input messages are counted and the
 //                                                    last one kept as they are decoded)
-//                                                 2. every decoded GPS sentence → fix queue
+//                                                 2. every decoded GPS sentence → fix queue,
+//                                                    then every Keller answer → its poller
+//                                                    → depth queue
 //                                                 3. every decoded 0xCB packet, in arrival
-//                                                    order: navigator step (attitude,
-//                                                    predict, queued fixes) → one $PNVBSOL
+//                                                    order: Keller requests due at its timer
+//                                                    → [keller tty], navigator step
+//                                                    (attitude, predict, queued fixes and
+//                                                    depths) → one $PNVBSOL
 //                                                 4. output queue → [output tty] (never blocks)
 //
-// Why this order: the bench makes any aiding bytes (GPS, DVL, ...) that precede a trigger
-// readable before it writes the trigger, so reading the trigger port first and handling every
-// aiding message before AHRS within a wake applies every fix at the same trigger on every run
-// (lockstep determinism). No wall clock enters the estimate; only --delay-ms sleeps, and only
-// before writing.
+// Why this order: the bench makes any aiding bytes (GPS, DVL, Keller answers, ...) that
+// precede a trigger readable before it writes the trigger, so reading the trigger port first
+// and handling every aiding message before AHRS within a wake applies every fix at the same
+// trigger on every run (lockstep determinism). For the polled Keller the bench stamps a
+// request with the scenario time reached when it reads it, so a request is written before
+// the $PNVBSOL of the AHRS packet whose timer made it due: the bench has it when the solution
+// arrives, and the answer comes back before the next trigger it precedes. No wall clock
+// enters the estimate or the poll schedule; only --delay-ms sleeps, and only before writing.
 #pragma once
 
 #include <cstdint>
@@ -32,6 +39,7 @@
 #include "nav/protocols/microstrain_gx3.hpp"
 #include "nav/protocols/nmea0183.hpp"
 #include "aiding_input.hpp"
+#include "keller_poller.hpp"
 #include "nav/transport/serial_port.hpp"
 #include "output_queue.hpp"
 #include "stream_decoder.hpp"
@@ -122,9 +130,16 @@ class NavdApp {
     transport::SerialPort port;
     AidingInput input;
     bool open = true;
+    std::optional<KellerPoller> poller;  ///< for a Keller bus: navd is the master
+    std::uint64_t write_errors = 0;      ///< requests the line did not take whole
   };
+  /// Writes a Keller request to its port without blocking (a short write is counted).
+  void write_request(Extra& e, const protocols::Bytes& request);
+  /// Hands every decoded Keller answer to its poller; P1 values become queued depths.
+  void handle_keller_answers();
   std::vector<Extra> extras_;  ///< in command-line order
   OutputQueue out_;
+  estimator::FilterParams params_;
   estimator::Navigator navigator_;
   std::uint64_t seq_ = 0;
   GpsCounts gps_counts_;

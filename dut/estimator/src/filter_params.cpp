@@ -42,6 +42,21 @@ constexpr ParamField kFields[] = {
      "NIS gate of GPS position updates, 0 = off [-]"},
     {"gps_velocity_gate_nis", &FilterParams::gps_velocity_gate_nis,
      "NIS gate of GPS velocity updates, 0 = off [-]"},
+    {"depth_poll_period_s", &FilterParams::depth_poll_period_s,
+     "time between Keller depth-sensor polls, on the AHRS timer, (0, 60] [s]"},
+    {"depth_atmosphere_pa", &FilterParams::depth_atmosphere_pa,
+     "air pressure subtracted from P1, 0 for a gauge sensor, [0, 200000] [Pa]"},
+    {"depth_density_kgpm3", &FilterParams::depth_density_kgpm3,
+     "water density for depth = (P1 - p_atm) / (rho g0), [900, 1100] [kg/m^3]"},
+    {"depth_std_m", &FilterParams::depth_std_m, "depth measurement std [m]"},
+};
+
+/// A closed range a field must lie in (the open lower end of a period is checked apart).
+struct RangeRule {
+  const char* name;
+  double value;
+  double min;
+  double max;
 };
 
 }  // namespace
@@ -75,6 +90,8 @@ Result<void> validate(const FilterParams& p) {
       {"initial_velocity_std_mps", p.initial_velocity_std_mps, true},
       {"gps_position_gate_nis", p.gps_position_gate_nis, false},
       {"gps_velocity_gate_nis", p.gps_velocity_gate_nis, false},
+      {"depth_poll_period_s", p.depth_poll_period_s, true},
+      {"depth_std_m", p.depth_std_m, true},
   };
   for (const Rule& r : rules) {
     const bool ok = r.strictly_positive ? r.value > 0.0 : r.value >= 0.0;
@@ -82,6 +99,18 @@ Result<void> validate(const FilterParams& p) {
       return fail(ErrorCode::kInvalidArgument,
                   std::string(r.name) + " must be " + (r.strictly_positive ? "> 0" : ">= 0") +
                       " (got " + format_value(r.value) + ")");
+    }
+  }
+  const RangeRule ranges[] = {
+      {"depth_poll_period_s", p.depth_poll_period_s, 0.0, 60.0},
+      {"depth_atmosphere_pa", p.depth_atmosphere_pa, 0.0, 200000.0},
+      {"depth_density_kgpm3", p.depth_density_kgpm3, 900.0, 1100.0},
+  };
+  for (const RangeRule& r : ranges) {
+    if (r.value < r.min || r.value > r.max) {
+      return fail(ErrorCode::kInvalidArgument,
+                  std::string(r.name) + " must be in [" + format_value(r.min) + ", " +
+                      format_value(r.max) + "] (got " + format_value(r.value) + ")");
     }
   }
   if (std::abs(p.magnetic_declination_rad) > std::numbers::pi) {

@@ -18,7 +18,8 @@ Navigator::Navigator(const FilterParams& params) : params_(params), attitude_(pa
   NAV_ENSURE(validate(params).has_value(), "filter parameters must be validated first");
 }
 
-void Navigator::add_gps_position(const GpsPosition& fix) {
+template <typename Fix>
+void Navigator::enqueue(const Fix& fix) {
   if (queue_.size() >= kMaxQueuedFixes) {
     queue_.erase(queue_.begin());
     ++stats_.gps_queue_dropped;
@@ -26,13 +27,11 @@ void Navigator::add_gps_position(const GpsPosition& fix) {
   queue_.emplace_back(fix);
 }
 
-void Navigator::add_gps_velocity(const GpsVelocity& fix) {
-  if (queue_.size() >= kMaxQueuedFixes) {
-    queue_.erase(queue_.begin());
-    ++stats_.gps_queue_dropped;
-  }
-  queue_.emplace_back(fix);
-}
+void Navigator::add_gps_position(const GpsPosition& fix) { enqueue(fix); }
+
+void Navigator::add_gps_velocity(const GpsVelocity& fix) { enqueue(fix); }
+
+void Navigator::add_depth(double depth_m) { enqueue(DepthMeasurement{depth_m}); }
 
 void Navigator::on_ahrs(const AhrsSample& s) {
   ++stats_.ahrs_samples;
@@ -126,6 +125,31 @@ void Navigator::apply(const GpsVelocity& fix) {
                                                       params_.gps_velocity_gate_nis);
   count(report, stats_.gps_velocity_fused);
   last_vel_ = report;
+}
+
+void Navigator::apply(const DepthMeasurement& depth) {
+  if (!std::isfinite(depth.depth_m)) {
+    ++stats_.depth_rejected_invalid;
+    return;
+  }
+  if (!kf_) {
+    ++stats_.depth_unanchored;
+    return;
+  }
+  // The point at this depth below MSL under the estimated horizontal position, in the plane:
+  // D = depth − anchor_depth at the anchor, anchor_depth = −(anchor altitude above MSL),
+  // plus the plane's curvature drop away from it, as a GPS altitude maps (M9, M7).
+  const geodesy::Geodetic below = plane_->to_geodetic(kf_->p_n());
+  const geodesy::Geodetic at_depth{below.lat_rad, below.lon_rad, -depth.depth_m};
+  const double z = plane_->to_ned(at_depth).z();  // (M9)
+  const auto report = kf_->update_down_position(z, params_.depth_std_m);  // (M9, K3..K7)
+  switch (report.status) {
+    case UpdateStatus::kFused: ++stats_.depth_fused; break;
+    case UpdateStatus::kRejectedInvalid: ++stats_.depth_rejected_invalid; break;
+    case UpdateStatus::kNumericalFault: ++stats_.numerical_faults; break;
+    case UpdateStatus::kRejectedGate: break;  // depth updates have no gate
+  }
+  last_depth_ = report;
 }
 
 NavSolution Navigator::solution() const {

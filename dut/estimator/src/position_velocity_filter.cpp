@@ -42,4 +42,11 @@ UpdateReport<2> PositionVelocityFilter::update_horizontal_velocity(const Vec<2>&
   return linear_update<pv::kStateSize, 2>(x_, P_, v_ne_mps, H, R, gate_nis);  // (K3..K7)
 }
 
+UpdateReport<1> PositionVelocityFilter::update_down_position(double p_d_m, double std_m) {
+  const Mat<1, pv::kStateSize> H = pv::down_position_jacobian();  // (M9)
+  const Mat<1, 1> R = Mat<1, 1>::Constant(std_m * std_m);         // R = σ_d² (M9)
+  const Vec<1> z = Vec<1>::Constant(p_d_m);                       // z = p_D + w (M9)
+  return linear_update<pv::kStateSize, 1>(x_, P_, z, H, R);       // (K3..K7)
+}
+
 }  // namespace nav::estimator

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// Equations M1..M8 are stated in pv_model.hpp.
+// Equations M1..M9 are stated in pv_model.hpp.
 #include "nav/estimator/pv_model.hpp"
 
 #include <cmath>
@@ -56,6 +56,12 @@ Mat<2, kStateSize> horizontal_velocity_jacobian() {
   Mat<2, kStateSize> H = Mat<2, kStateSize>::Zero();
   H(0, kVel.idx + 0) = 1.0;  // v_N (M8)
   H(1, kVel.idx + 1) = 1.0;  // v_E (M8)
+  return H;
+}
+
+Mat<1, kStateSize> down_position_jacobian() {
+  Mat<1, kStateSize> H = Mat<1, kStateSize>::Zero();
+  H(0, kPos.idx + 2) = 1.0;  // p_D (M9)
   return H;
 }
 

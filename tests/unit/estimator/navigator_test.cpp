@@ -155,6 +155,87 @@ TEST(Navigator, QueueIsBoundedWhenNoAhrsArrives) {
   EXPECT_EQ(nav.stats().gps_position_fused, Navigator::kMaxQueuedFixes);
 }
 
+TEST(Navigator, DepthPullsTheDownPositionWithTheKalmanGain) {
+  // GIVEN a static, level vehicle anchored by a fix 0.5 m above MSL (anchor depth −0.5 m),
+  // no process noise, σ_v = 3 m, σ_vel0 = 1 m/s, σ_depth = 0.05 m
+  FilterParams p;
+  p.accel_noise_density_mps2_rthz = 0.0;
+  p.gps_vertical_std_m = 3.0;
+  p.initial_velocity_std_mps = 1.0;
+  p.depth_std_m = 0.05;
+  const double g = geodesy::normal_gravity(36.3833 * kDeg, 0.5);
+  const Quat q = Quat::Identity();
+  Navigator nav(p);
+  nav.on_ahrs(static_sample(q, 0, g));
+  nav.add_gps_position(fix_at(36.3833, 127.36, 0.5));
+  nav.on_ahrs(static_sample(q, 625, g));  // anchors: p_D = 0, P_DD = 9, P_vv = 1
+  ASSERT_TRUE(nav.solution().position_valid);
+  // WHEN a depth of 10 m is queued and the next sample (dt = 0.01 s) arrives
+  nav.add_depth(10.0);
+  EXPECT_NEAR(nav.solution().p_n.z(), 0.0, 1e-12);  // not applied before the sample
+  nav.on_ahrs(static_sample(q, 1250, g));
+  // THEN predict: P_DD⁻ = 9 + dt²·1 = 9.0001, P_Dv⁻ = dt·1 = 0.01; z = 10 − (−0.5) = 10.5,
+  //      S = 9.0001 + 0.0025 = 9.0026, K = [9.0001, 0.01] / S,
+  //      p_D = K_p · 10.5, v_D = K_v · 10.5, P_DD = 9.0001 · 0.0025 / S
+  const double S = 9.0026;
+  const NavSolution s = nav.solution();
+  ASSERT_EQ(nav.stats().depth_fused, 1u);
+  ASSERT_TRUE(nav.last_depth_report());
+  EXPECT_NEAR(nav.last_depth_report()->y(0), 10.5, 1e-9);
+  EXPECT_NEAR(nav.last_depth_report()->S(0, 0), S, 1e-12);
+  EXPECT_NEAR(s.p_n.z(), 9.0001 / S * 10.5, 1e-9);
+  EXPECT_NEAR(s.v_n.z(), 0.01 / S * 10.5, 1e-9);
+  EXPECT_NEAR(s.p_std_m.z(), std::sqrt(9.0001 * 0.0025 / S), 1e-9);
+  EXPECT_NEAR(s.p_n.x(), 0.0, 1e-9);
+  EXPECT_NEAR(s.p_n.y(), 0.0, 1e-9);
+  // AND the solution's altitude is minus the depth the filter holds
+  EXPECT_NEAR(s.position.alt_m, 0.5 - s.p_n.z(), 1e-6);
+}
+
+TEST(Navigator, DepthMapsThroughThePlaneAwayFromTheAnchor) {
+  // GIVEN a vehicle 1 km north of the anchor (fixes there), whose plane curves away below it
+  FilterParams p;
+  p.depth_std_m = 1e-4;  // the depth decides
+  const double g = geodesy::normal_gravity(36.3833 * kDeg, 0.0);
+  Navigator nav(p);
+  nav.on_ahrs(static_sample(Quat::Identity(), 0, g));
+  nav.add_gps_position(fix_at(36.3833, 127.36, 0.0));
+  nav.on_ahrs(static_sample(Quat::Identity(), 625, g));
+  const geodesy::LocalTangentPlane plane(geodesy::Geodetic{36.3833 * kDeg, 127.36 * kDeg, 0.0});
+  const geodesy::Geodetic north = plane.to_geodetic(Vec3(1000.0, 0.0, 0.0));
+  for (int k = 2; k < 50; ++k) {
+    nav.add_gps_position(GpsPosition{geodesy::Geodetic{north.lat_rad, north.lon_rad, -20.0}});
+    nav.add_depth(20.0);
+    nav.on_ahrs(static_sample(Quat::Identity(), static_cast<std::uint32_t>(625 * k), g));
+  }
+  // THEN the reported depth is the measured one, not 20 m minus the curvature drop (~8 cm)
+  EXPECT_NEAR(-nav.solution().position.alt_m, 20.0, 0.005);
+}
+
+TEST(Navigator, DepthBeforeAnchoringIsCountedAndDropped) {
+  Navigator nav{FilterParams{}};
+  nav.on_ahrs(static_sample(Quat::Identity(), 0));
+  nav.add_depth(5.0);
+  nav.on_ahrs(static_sample(Quat::Identity(), 625));
+  EXPECT_EQ(nav.stats().depth_unanchored, 1u);
+  EXPECT_EQ(nav.stats().depth_fused, 0u);
+  EXPECT_FALSE(nav.solution().position_valid);
+  EXPECT_FALSE(nav.last_depth_report());
+  // A depth queued before the anchoring fix in the same interval is dropped too (arrival
+  // order), the one after it is fused.
+  nav.add_depth(5.0);
+  nav.add_gps_position(fix_at(36.0, 127.0, 0.0));
+  nav.add_depth(5.0);
+  nav.on_ahrs(static_sample(Quat::Identity(), 1250));
+  EXPECT_EQ(nav.stats().depth_unanchored, 2u);
+  EXPECT_EQ(nav.stats().depth_fused, 1u);
+  // NaN depths are rejected whether anchored or not.
+  nav.add_depth(std::numeric_limits<double>::quiet_NaN());
+  nav.on_ahrs(static_sample(Quat::Identity(), 1875));
+  EXPECT_EQ(nav.stats().depth_rejected_invalid, 1u);
+  EXPECT_EQ(nav.stats().depth_fused, 1u);
+}
+
 TEST(FilterParams, ValidateNamesTheField) {
   FilterParams p;
   EXPECT_TRUE(validate(p).has_value());
@@ -162,7 +243,28 @@ TEST(FilterParams, ValidateNamesTheField) {
   const auto r = validate(p);
   ASSERT_FALSE(r.has_value());
   EXPECT_EQ(r.error().detail, "gps_horizontal_std_m must be > 0 (got 0)");
-  EXPECT_EQ(param_fields().size(), 15u);
+  EXPECT_EQ(param_fields().size(), 19u);
+}
+
+TEST(FilterParams, DepthRanges) {
+  const auto error_of = [](void (*set)(FilterParams&)) {
+    FilterParams p;
+    set(p);
+    const auto r = validate(p);
+    return r ? std::string("ok") : r.error().detail;
+  };
+  EXPECT_EQ(error_of([](FilterParams& p) { p.depth_poll_period_s = 0.0; }),
+            "depth_poll_period_s must be > 0 (got 0)");
+  EXPECT_EQ(error_of([](FilterParams& p) { p.depth_poll_period_s = 61.0; }),
+            "depth_poll_period_s must be in [0, 60] (got 61)");
+  EXPECT_EQ(error_of([](FilterParams& p) { p.depth_std_m = -0.1; }),
+            "depth_std_m must be > 0 (got -0.1)");
+  EXPECT_EQ(error_of([](FilterParams& p) { p.depth_atmosphere_pa = 0.0; }), "ok");  // gauge
+  EXPECT_EQ(error_of([](FilterParams& p) { p.depth_atmosphere_pa = -1.0; }),
+            "depth_atmosphere_pa must be in [0, 200000] (got -1)");
+  EXPECT_EQ(error_of([](FilterParams& p) { p.depth_density_kgpm3 = 1000.0; }), "ok");
+  EXPECT_EQ(error_of([](FilterParams& p) { p.depth_density_kgpm3 = 1.025; }),
+            "depth_density_kgpm3 must be in [900, 1100] (got 1.025)");
 }
 
 }  // namespace

@@ -48,6 +48,44 @@ TEST(PvModel, HandComputedPredictAndPositionUpdate) {
   EXPECT_NEAR(kf.p_n().y(), 0.0, 1e-15);
 }
 
+TEST(PvModel, HandComputedDownPositionUpdate) {
+  // GIVEN p_D = 1 m, v_D = 0.5 m/s, per axis P = [[4, 1], [1, 2]] (position, velocity)
+  State x0 = State::Zero();
+  x0(pv::kPos.idx + 2) = 1.0;
+  x0(pv::kVel.idx + 2) = 0.5;
+  Covariance P0 = Covariance::Identity();
+  for (int a = 0; a < 3; ++a) {
+    P0(a, a) = 4.0;
+    P0(a, 3 + a) = P0(3 + a, a) = 1.0;
+    P0(3 + a, 3 + a) = 2.0;
+  }
+  PositionVelocityFilter kf(x0, P0);
+  // WHEN fusing p_D = 3 m with σ = 2 m (M9)
+  const auto r = kf.update_down_position(3.0, 2.0);
+  // THEN y = 2, S = 4 + 4 = 8, K = [4, 1] / 8 = [0.5, 0.125] on (p_D, v_D), NIS = 4 / 8,
+  //      p_D = 1 + 0.5·2 = 2, v_D = 0.5 + 0.125·2 = 0.75,
+  //      P = [[4 − 0.25·8, 1 − 0.0625·8], [·, 2 − 0.015625·8]] = [[2, 0.5], [0.5, 1.875]],
+  //      North and East untouched
+  ASSERT_EQ(r.status, UpdateStatus::kFused);
+  EXPECT_NEAR(r.y(0), 2.0, 1e-15);
+  EXPECT_NEAR(r.S(0, 0), 8.0, 1e-15);
+  EXPECT_NEAR(r.nis, 0.5, 1e-15);
+  EXPECT_NEAR(kf.p_n().z(), 2.0, 1e-15);
+  EXPECT_NEAR(kf.v_n().z(), 0.75, 1e-15);
+  EXPECT_NEAR(kf.P()(2, 2), 2.0, 1e-14);
+  EXPECT_NEAR(kf.P()(2, 5), 0.5, 1e-14);
+  EXPECT_NEAR(kf.P()(5, 5), 1.875, 1e-14);
+  EXPECT_DOUBLE_EQ(kf.P()(0, 0), 4.0);
+  EXPECT_DOUBLE_EQ(kf.P()(3, 3), 2.0);
+  EXPECT_DOUBLE_EQ(kf.p_n().x(), 0.0);
+  // A NaN depth or standard deviation leaves the filter alone.
+  EXPECT_EQ(kf.update_down_position(std::numeric_limits<double>::quiet_NaN(), 1.0).status,
+            UpdateStatus::kRejectedInvalid);
+  EXPECT_EQ(kf.update_down_position(1.0, std::numeric_limits<double>::infinity()).status,
+            UpdateStatus::kRejectedInvalid);
+  EXPECT_NEAR(kf.p_n().z(), 2.0, 1e-15);
+}
+
 TEST(PvModel, HandComputedVelocityUpdate) {
   // GIVEN v = (1, 2, 0), P = I; WHEN fusing [v_N, v_E] = (1.5, 2) with σ = 1 m/s
   State x0 = State::Zero();
@@ -97,17 +135,21 @@ TEST(PvModel, JacobiansMatchFiniteDifferences) {
     G_num.col(i) = (pv::propagate(x, a + da, dt) - pv::propagate(x, a - da, dt)) / (2 * h);
   }
   EXPECT_LT((G_num - pv::input_jacobian(dt)).cwiseAbs().maxCoeff(), 1e-9);
-  // H of the measurements against differences of h(x) = p_n and h(x) = [v_N, v_E].
+  // H of the measurements against differences of h(x) = p_n, h(x) = [v_N, v_E] and
+  // h(x) = p_D.
   Mat<3, pv::kStateSize> Hp_num;
   Mat<2, pv::kStateSize> Hv_num;
+  Mat<1, pv::kStateSize> Hd_num;
   for (int i = 0; i < pv::kStateSize; ++i) {
     State dx = State::Zero();
     dx(i) = h;
     Hp_num.col(i) = ((x + dx).segment<3>(0) - (x - dx).segment<3>(0)) / (2 * h);
     Hv_num.col(i) = ((x + dx).segment<2>(3) - (x - dx).segment<2>(3)) / (2 * h);
+    Hd_num(0, i) = ((x + dx)(2) - (x - dx)(2)) / (2 * h);
   }
   EXPECT_LT((Hp_num - pv::position_jacobian()).cwiseAbs().maxCoeff(), 1e-9);
   EXPECT_LT((Hv_num - pv::horizontal_velocity_jacobian()).cwiseAbs().maxCoeff(), 1e-9);
+  EXPECT_LT((Hd_num - pv::down_position_jacobian()).cwiseAbs().maxCoeff(), 1e-9);
 }
 
 TEST(PvModel, ProcessNoiseIsPositiveDefinite) {

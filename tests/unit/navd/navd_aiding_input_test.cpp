@@ -54,6 +54,10 @@ TEST(InputSpec, DefaultBaudPerProtocol) {
   ASSERT_TRUE(u) << u.error().detail;
   EXPECT_EQ(u->protocol, InputProtocol::kUsbl);
   EXPECT_EQ(u->baud, 115200);
+  const auto k = parse_input_spec("depth=keller:/dev/ttyUSB2", kBauds);
+  ASSERT_TRUE(k) << k.error().detail;
+  EXPECT_EQ(k->protocol, InputProtocol::kKeller);
+  EXPECT_EQ(k->baud, 9600);
 }
 
 TEST(InputSpec, EveryProtocolName) {
@@ -61,7 +65,7 @@ TEST(InputSpec, EveryProtocolName) {
       {"nq1", InputProtocol::kNq1},   {"pd0", InputProtocol::kPd0},
       {"pd6", InputProtocol::kPd6},   {"a50", InputProtocol::kA50},
       {"ebimu", InputProtocol::kEbimu}, {"usbl", InputProtocol::kUsbl},
-      {"nmea", InputProtocol::kNmea}};
+      {"nmea", InputProtocol::kNmea},   {"keller", InputProtocol::kKeller}};
   for (const auto& [name, p] : all) {
     const auto s = parse_input_spec("x=" + name + ":/p", kBauds);
     ASSERT_TRUE(s) << name;
@@ -91,7 +95,7 @@ TEST(InputSpec, InvalidFormsGiveOneLineErrors) {
       {"dvl=pd0", "no ':'"},
       {"dvl=:/p", "unknown PROTOCOL ''"},
       {"dvl=PD0:/p", "unknown PROTOCOL 'PD0'"},
-      {"dvl=keller:/p", "unknown PROTOCOL 'keller'"},
+      {"dvl=modbus:/p", "unknown PROTOCOL 'modbus'"},
       {"dvl=pd0:", "empty PATH"},
       {"dvl=pd0:@9600", "empty PATH"},
       {"dvl=pd0:/p@", "BAUD '' is not a number"},

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// Parameters of the loosely coupled AHRS + GPS navigator (navigator.hpp), with their
+// Parameters of the loosely coupled AHRS + GPS (+ depth) navigator (navigator.hpp), with their
 // defaults. Every field is a double in SI units named with its unit, so a config file can
 // set them by name (param_fields()).
 #pragma once
@@ -49,6 +49,17 @@ struct FilterParams {
   double gps_position_gate_nis = 0.0;
   /// Chi-square gate on the NIS of a GPS velocity update (2 dof); 0 disables the gate [-].
   double gps_velocity_gate_nis = 0.0;
+
+  // --- depth sensor (Keller P1, polled by navd; fused by the KF, pv_model.hpp M9) ---
+  /// Time between two depth-sensor polls, counted on the AHRS timer (navd) [s].
+  double depth_poll_period_s = 0.2;
+  /// Air pressure subtracted from the sensor's absolute P1 before converting to depth; 0 for
+  /// a gauge (relative) sensor [Pa].
+  double depth_atmosphere_pa = 101325.0;
+  /// Water density ρ of depth = (P1 − p_atm) / (ρ g0) [kg/m^3].
+  double depth_density_kgpm3 = 1025.0;
+  /// Standard deviation of a depth measurement [m].
+  double depth_std_m = 0.05;
 };
 
 /// One parameter by name, for config files and help text.

@@ -77,7 +77,10 @@ UpdateReport<M> linear_update(Vec<N>& x, Mat<N, N>& P, const Vec<M>& z, const Ma
     report.status = UpdateStatus::kRejectedGate;
     return report;
   }
-  const Mat<N, M> K = S_ldlt.solve(H * P).transpose();  // K = P Hᵀ S⁻¹, S and P symmetric (K5)
+  // H P⁻ evaluated first: solving against the unevaluated product trips a GCC 12
+  // -Warray-bounds false positive in Eigen's LDLT for M = 1.
+  const Mat<M, N> HP = H * P;
+  const Mat<N, M> K = S_ldlt.solve(HP).transpose();     // K = P Hᵀ S⁻¹, S and P symmetric (K5)
   const Vec<N> x_new = x + K * y;                        // (K6)
   const Mat<N, N> I_KH = Mat<N, N>::Identity() - K * H;
   Mat<N, N> P_new = I_KH * P * I_KH.transpose() + K * R * K.transpose();  // Joseph form (K7)

@@ -1,18 +1,21 @@
 // SPDX-License-Identifier: MIT
 // Loosely coupled AHRS + GPS navigator: the complementary attitude filter
 // (complementary_attitude.hpp) feeds the specific force, rotated into NED, to a
-// position/velocity Kalman filter (pv_model.hpp) corrected by GPS position and velocity.
+// position/velocity Kalman filter (pv_model.hpp) corrected by GPS position and velocity
+// and by depth.
 //
 // Time comes only from the sensor data: the interval between two AHRS samples is the
 // difference of their 3DM-GX3 timer fields (uint32 ticks of 1/62500 s, modulo 2^32).
-// GPS fixes carry no time usable against that timer, so they are queued and applied at the
-// next AHRS sample, after its predict step:
+// GPS fixes and depths carry no time usable against that timer, so they are queued and
+// applied at the next AHRS sample, after its predict step:
 //
 //   AHRS sample k:  [align once] → attitude step (A4..A9) → KF predict (K1, K2)
-//                   → every GPS fix queued since sample k−1, in arrival order (K3..K7)
+//                   → every GPS fix and depth queued since sample k−1, in arrival order
+//                     (K3..K7 with M7, M8, M9)
 //
 // The first GPS position fix anchors the local NED plane (p_n = 0 at the fix) and starts
-// the KF. No I/O, no clocks.
+// the KF; depths before it have no plane to live in and are counted and dropped. No I/O,
+// no clocks.
 #pragma once
 
 #include <cstdint>
@@ -52,6 +55,11 @@ struct GpsVelocity {
   double cog_rad = 0.0;  ///< course over ground from true North, + towards East [rad]
 };
 
+/// A depth measurement, e.g. from a pressure sensor.
+struct DepthMeasurement {
+  double depth_m = 0.0;  ///< depth below mean sea level [m], + down
+};
+
 /// Counters for the exit summary and tests.
 struct NavigatorStats {
   std::uint64_t ahrs_samples = 0;           ///< samples given to on_ahrs()
@@ -62,7 +70,11 @@ struct NavigatorStats {
   std::uint64_t gps_rejected_invalid = 0;   ///< GPS inputs with NaN/Inf or out of range
   std::uint64_t gps_rejected_gate = 0;      ///< GPS updates above their NIS gate
   std::uint64_t gps_velocity_unanchored = 0;  ///< velocities before the first position fix
-  std::uint64_t gps_queue_dropped = 0;      ///< fixes dropped because no AHRS sample came
+  std::uint64_t gps_queue_dropped = 0;      ///< fixes (GPS or depth) dropped because no AHRS
+                                            ///< sample came
+  std::uint64_t depth_fused = 0;            ///< depth updates fused
+  std::uint64_t depth_unanchored = 0;       ///< depths before the first position fix (dropped)
+  std::uint64_t depth_rejected_invalid = 0; ///< depths with NaN/Inf
   std::uint64_t numerical_faults = 0;       ///< updates refused for numerical health
 };
 
@@ -87,8 +99,10 @@ class Navigator {
   void add_gps_position(const GpsPosition& fix);
   /// Queues a velocity fix for the next AHRS sample.
   void add_gps_velocity(const GpsVelocity& fix);
+  /// Queues a depth below mean sea level [m, + down] for the next AHRS sample.
+  void add_depth(double depth_m);
 
-  /// Processes one AHRS sample and then the queued GPS fixes.
+  /// Processes one AHRS sample and then the queued GPS fixes and depths.
   void on_ahrs(const AhrsSample& sample);
 
   /// The current estimate.
@@ -98,6 +112,8 @@ class Navigator {
   const std::optional<UpdateReport<3>>& last_position_report() const { return last_pos_; }
   /// Report of the last GPS velocity update.
   const std::optional<UpdateReport<2>>& last_velocity_report() const { return last_vel_; }
+  /// Report of the last depth update (nullopt before the first one after anchoring).
+  const std::optional<UpdateReport<1>>& last_depth_report() const { return last_depth_; }
 
   /// Most fixes kept while waiting for an AHRS sample; older ones are dropped (counted).
   static constexpr std::size_t kMaxQueuedFixes = 64;
@@ -106,6 +122,9 @@ class Navigator {
   void apply_queued_fixes();
   void apply(const GpsPosition& fix);
   void apply(const GpsVelocity& fix);
+  void apply(const DepthMeasurement& depth);
+  template <typename Fix>
+  void enqueue(const Fix& fix);
   template <int M>
   void count(const UpdateReport<M>& report, std::uint64_t& fused_counter);
 
@@ -116,9 +135,10 @@ class Navigator {
   std::optional<geodesy::LocalTangentPlane> plane_;  ///< set by the first position fix
   std::optional<PositionVelocityFilter> kf_;         ///< started with the plane
   double gravity_mps2_ = 0.0;                        ///< normal gravity at the anchor
-  std::vector<std::variant<GpsPosition, GpsVelocity>> queue_;
+  std::vector<std::variant<GpsPosition, GpsVelocity, DepthMeasurement>> queue_;
   std::optional<UpdateReport<3>> last_pos_;
   std::optional<UpdateReport<2>> last_vel_;
+  std::optional<UpdateReport<1>> last_depth_;
   NavigatorStats stats_;
 };
 

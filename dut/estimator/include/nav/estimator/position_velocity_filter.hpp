@@ -26,6 +26,10 @@ class PositionVelocityFilter {
   UpdateReport<2> update_horizontal_velocity(const Vec<2>& v_ne_mps, double std_mps,
                                              double gate_nis = 0.0);
 
+  /// Fuses the down position p_D [m, NED] (from a depth sensor) with a standard deviation
+  /// [m] (M9). No gate.
+  UpdateReport<1> update_down_position(double p_d_m, double std_m);
+
   const pv::State& x() const { return x_; }       ///< [p_n m; v_n m/s]
   const pv::Covariance& P() const { return P_; }  ///< covariance of x
   Vec3 p_n() const { return x_.segment<3>(pv::kPos.idx); }  ///< position, NED [m]

@@ -1,11 +1,12 @@
 // SPDX-License-Identifier: MIT
 // Position/velocity model of the loosely coupled navigator: kinematics driven by the
 // AHRS specific force rotated into the navigation frame, GPS position and horizontal
-// velocity measurements. Model only (f, F, G, Q, H); the algorithm is linear_kf.hpp.
+// velocity measurements, and the depth sensor's down position. Model only (f, F, G, Q, H);
+// the algorithm is linear_kf.hpp.
 //
 // Reference: Y. Bar-Shalom, X. R. Li, T. Kirubarajan, "Estimation with Applications to
 // Tracking and Navigation", Wiley 2001, sec. 6.2.2 (continuous white noise acceleration
-// model, here with a known acceleration input). Equation labels M1..M8 are this file's own.
+// model, here with a known acceleration input). Equation labels M1..M9 are this file's own.
 //
 // Frames: n = local NED tangent plane anchored at the first GPS fix; b = FRD body frame
 // (the AHRS sensor frame is taken as the body frame).
@@ -29,6 +30,12 @@
 //   M7  GPS position:  z = p_n + w,        H = [ I 0 ],            R = diag(σh², σh², σv²)
 //   M8  GPS velocity:  z = sog·[cos cog, sin cog]ᵀ = [v_N, v_E]ᵀ + w,
 //                      H = [ 0 I₂ 0 ] (rows pick v_N, v_E),  R = σ_v²·I₂
+//   M9  depth:         z = p_D + w,   H = [ 0 0 1 0 0 0 ],  R = σ_d²
+//                      z = down coordinate of the point at depth d below MSL under the
+//                      estimated horizontal position: D(lat, lon, −d) in the plane, which
+//                      is d − d_anchor at the anchor (d_anchor = −altitude of the anchoring
+//                      fix above MSL) plus the plane's curvature drop elsewhere (r²/2R_E,
+//                      8 mm at 320 m), exactly as a GPS altitude maps through M7
 #pragma once
 
 #include "nav/common/frames.hpp"
@@ -71,6 +78,9 @@ Mat<3, kStateSize> position_jacobian();
 
 /// H of a GPS horizontal velocity measurement (M8).
 Mat<2, kStateSize> horizontal_velocity_jacobian();
+
+/// H of a depth (down position) measurement (M9).
+Mat<1, kStateSize> down_position_jacobian();
 
 /// [v_N, v_E] from speed over ground [m/s] and course over ground from true North,
 /// positive towards East [rad] (M8).
