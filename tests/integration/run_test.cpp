@@ -3,6 +3,8 @@
 #include <filesystem>
 #include <algorithm>
 #include <regex>
+#include <sstream>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -161,6 +163,11 @@ TEST(NavbenchRun, SlowDutGetsItsDeadlineMissesCounted) {
   EXPECT_GE(s["dut_latency"]["p50_ms"].get<double>(), 50.0);
 }
 
+/// Capture lines "(<sec>.<nsec>) <port> <hex>" of one port: their times [s]. Lines before
+/// scenario time 0 (negative, written during the DUT's startup) only with before_zero.
+std::vector<double> capture_times(const std::string& capture, const std::string& port,
+                                  bool before_zero = false);
+
 TEST(NavbenchRun, AllDevicesScenarioPassesInRealtime) {
   const auto dir = fresh_dir("all-devices-rt");
   const auto r = run_navbench(
@@ -168,7 +175,7 @@ TEST(NavbenchRun, AllDevicesScenarioPassesInRealtime) {
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
   EXPECT_NE(r.out.find("VERDICT: PASS"), std::string::npos) << r.out;
   const auto s = summary(dir / "run");
-  ASSERT_EQ(s["devices"].size(), 8u);
+  ASSERT_EQ(s["devices"].size(), 9u);
   for (const auto& d : s["devices"]) {
     EXPECT_GT(d["messages"].get<int>(), 0) << d["name"];
     EXPECT_EQ(d["bytes_dropped"].get<int>(), 0) << d["name"];
@@ -177,9 +184,23 @@ TEST(NavbenchRun, AllDevicesScenarioPassesInRealtime) {
   // Every emulated device is on the wire.
   const std::string tx = slurp(dir / "run" / "capture-tx.log");
   for (const char* port :
-       {"ahrs", "gps", "dvl_nq1", "dvl_pd0", "dvl_pd6", "dvl_a50", "imu", "usbl"}) {
+       {"ahrs", "gps", "dvl_nq1", "dvl_pd0", "dvl_pd6", "dvl_a50", "imu", "usbl", "depth"}) {
     EXPECT_NE(tx.find(std::string(") ") + port + " "), std::string::npos) << port;
   }
+  // The Keller answers navd's polls: the F48 at start, then F73 P1 at 5 Hz of AHRS time,
+  // each answered once, 5 ms after the request was read.
+  const std::string rx = slurp(dir / "run" / "capture-rx.log");
+  const auto requests = capture_times(rx, "depth", true);
+  const auto answers = capture_times(tx, "depth", true);
+  EXPECT_NE(rx.find(") depth FA300443\n"), std::string::npos);  // F48 to address 250
+  EXPECT_GE(requests.size(), 120u);
+  EXPECT_EQ(answers.size(), requests.size());
+  for (std::size_t i = 1; i < std::min(requests.size(), answers.size()); ++i) {
+    EXPECT_GE(answers[i] - requests[i], 0.005) << i;
+    EXPECT_LT(answers[i] - requests[i], 0.2) << i;  // noisy VM: wide margin
+  }
+  // navd fuses the depth: the vertical check passes with a 0.5 m limit through the dive.
+  EXPECT_TRUE((*check(s, "vertical_error"))["passed"].get<bool>());
 }
 
 TEST(NavbenchRun, AllDevicesLockstepRunsAreBitReproducible) {
@@ -193,13 +214,20 @@ TEST(NavbenchRun, AllDevicesLockstepRunsAreBitReproducible) {
   EXPECT_GT(ea.size(), 100000u);
   EXPECT_EQ(ea, slurp(dir / "b" / "estimate.tum"));
   EXPECT_EQ(slurp(dir / "a" / "capture-tx.log"), slurp(dir / "b" / "capture-tx.log"));
+  // The DUT's Keller requests too: each read at the same scenario time in both runs (the
+  // DUT's output lines in capture-rx.log carry wall-clock times, so only "depth" is compared).
+  const auto requests = capture_times(slurp(dir / "a" / "capture-rx.log"), "depth");
+  EXPECT_GE(requests.size(), 120u);
+  EXPECT_EQ(requests, capture_times(slurp(dir / "b" / "capture-rx.log"), "depth"));
   EXPECT_EQ(summary(dir / "a")["dut"]["answers"], 2500);
 }
 
 /// Capture lines "(<sec>.<nsec>) <port> <hex>" of one port: their times [s].
-std::vector<double> capture_times(const std::string& capture, const std::string& port) {
+std::vector<double> capture_times(const std::string& capture, const std::string& port,
+                                  bool before_zero) {
   std::vector<double> t;
-  const std::regex line(R"(\((\d+\.\d{9})\) (\S+) [0-9A-F]+\n)");
+  const std::regex line(before_zero ? R"(\((-?\d+\.\d{9})\) (\S+) [0-9A-F]+\n)"
+                                    : R"(\((\d+\.\d{9})\) (\S+) [0-9A-F]+\n)");
   for (std::sregex_iterator it(capture.begin(), capture.end(), line), end; it != end; ++it) {
     if ((*it)[2] == port) t.push_back(std::stod((*it)[1]));
   }
@@ -255,6 +283,70 @@ TEST(NavbenchRun, FaultScenarioReportsEveryFaultAndNavdSurvives) {
   EXPECT_FALSE(gps.empty());
   for (const double t : gps) EXPECT_FALSE(t > 16.1 && t < 18.0) << "gps at " << t;
   EXPECT_TRUE(std::any_of(ahrs.begin(), ahrs.end(), [](double t) { return t > 5.0 && t < 5.1; }));
+}
+
+/// The values of one numeric field of every decoded JSON line of `type` [field's unit].
+std::vector<double> decoded(const std::string& jsonl, const std::string& type,
+                            const std::string& field) {
+  std::vector<double> v;
+  std::istringstream in(jsonl);
+  for (std::string line; std::getline(in, line);) {
+    const auto j = nlohmann::json::parse(line);
+    if (j["type"] == type) v.push_back(j[field].get<double>());
+  }
+  return v;
+}
+
+TEST(NavbenchRun, MeasurementFaultsShowOnTheWireAndNavdSurvives) {
+  const auto dir = fresh_dir("faults-measurement");
+  const auto r = run_navbench({"run", source_path("scenarios/faults-measurement.yaml"),
+                               "--mode", "lockstep", "--out", "run"}, dir);
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  const auto s = summary(dir / "run");
+  EXPECT_TRUE((*check(s, "dut_alive"))["passed"].get<bool>());
+  EXPECT_EQ(s["dut"]["answers"], 2000);
+  // Each fault with the messages it covered: 200 GX3 packets in 2 s, 15 GPS epochs in 3 s,
+  // 20 DVL pings in 4 s, 4 USBL fixes in 4 s; the Keller's by the polls it answered (5 Hz).
+  const std::vector<std::tuple<std::string, std::string, int>> expected{
+      {"ahrs", "wrong", 200},     {"gps", "gps_jump", 15}, {"dvl", "bottom_lock_loss", 20},
+      {"usbl", "usbl_outliers", 4}, {"depth", "off", 10},  {"depth", "checksum", 5},
+      {"depth", "wrong", 15}};
+  ASSERT_EQ(s["faults"].size(), expected.size()) << s["faults"].dump();
+  for (std::size_t i = 0; i < expected.size(); ++i) {
+    const auto& f = s["faults"][i];
+    EXPECT_EQ(f["device"], std::get<0>(expected[i])) << i;
+    EXPECT_EQ(f["kind"], std::get<1>(expected[i])) << i;
+    EXPECT_EQ(f["messages_affected"], std::get<2>(expected[i])) << f.dump();
+  }
+  const auto capture = (dir / "run" / "capture-tx.log").string();
+  // GPS: 30 m north for the 15 fixes of [5 s, 8 s): consecutive fixes 0.2 s apart move
+  // about 0.2 m, except at the two edges of the window, where they jump by about 30 m.
+  const auto gps = run_navbench({"decode", "--protocol", "nmea0183", "--port", "gps", capture}, dir);
+  ASSERT_EQ(gps.exit_code, 0) << gps.err;
+  const auto lat = decoded(gps.out, "GGA", "lat_deg");
+  ASSERT_EQ(lat.size(), 100u);
+  constexpr double kMetresPerDegLat = 111'000.0;  // near 36 deg N, to 0.1 %
+  for (std::size_t k = 1; k < lat.size(); ++k) {
+    const double step_m = (lat[k] - lat[k - 1]) * kMetresPerDegLat;
+    if (k == 25) EXPECT_NEAR(step_m, 30.0, 2.5) << k;        // fix at 5.0 s: jump on
+    else if (k == 40) EXPECT_NEAR(step_m, -30.0, 2.5) << k;  // fix at 8.0 s: jump off
+    else EXPECT_LT(std::abs(step_m), 2.5) << k;
+  }
+  // Keller: P1 at the surface is the atmosphere, 1.01325 bar; +10 kPa = 0.1 bar while wrong.
+  const auto keller =
+      run_navbench({"decode", "--protocol", "keller-bus", "--port", "depth", capture}, dir);
+  const auto p1 = decoded(keller.out, "keller_channel_value", "value");
+  ASSERT_GT(p1.size(), 60u);
+  EXPECT_EQ(std::count_if(p1.begin(), p1.end(), [](double p) { return p > 1.1; }), 15);
+  // No Keller answer inside its off window, though navd keeps polling there.
+  const auto answers = capture_times(slurp(dir / "run" / "capture-tx.log"), "depth");
+  const auto requests = capture_times(slurp(dir / "run" / "capture-rx.log"), "depth");
+  for (const double t : answers) EXPECT_FALSE(t > 14.01 && t < 16.0) << "answer at " << t;
+  EXPECT_GE(std::count_if(requests.begin(), requests.end(),
+                          [](double t) { return t > 14.0 && t < 16.0; }), 9);
+  // navd rejects the answers with a broken CRC and counts the polls they leave unanswered.
+  const std::string log = slurp(dir / "run" / "dut.log");
+  EXPECT_NE(log.find("timeouts=15"), std::string::npos) << log;
 }
 
 /// The "# expect:" and "# line:" header comments of a malformed scenario file.
