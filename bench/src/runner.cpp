@@ -26,6 +26,7 @@
 #include "nav/bench/pty.hpp"
 #include "nav/bench/realtime.hpp"
 #include "nav/bench/wire_schedule.hpp"
+#include "nav/emulators/acoustic_modem.hpp"
 #include "nav/emulators/dvl_emulator.hpp"
 #include "nav/emulators/ebimu_emulator.hpp"
 #include "nav/emulators/faults.hpp"
@@ -100,17 +101,48 @@ Result<Line> open_line(const std::string& port, int baud) {
   return l;
 }
 
-/// One line per device, then the DUT's output line; an error names the device.
+/// Every device of every vehicle, in run order: the primary vehicle's as in the file, then
+/// each peer's, named "<peer vehicle>.<device>" (captures, reports, seeds).
+struct RunDevice {
+  DeviceSpec spec;          ///< spec.name qualified for a peer's device
+  std::string local_name;   ///< the name in its vehicle ("{port:NAME}")
+  std::uint32_t vehicle = 0;  ///< 0 = primary, 1 + i = peers[i]
+};
+
+std::vector<RunDevice> run_devices(const Scenario& sc) {
+  std::vector<RunDevice> out;
+  for (const auto& d : sc.devices) out.push_back({d, d.name, 0});
+  for (std::uint32_t p = 0; p < sc.peers.size(); ++p) {
+    for (const auto& d : sc.peers[p].devices) {
+      RunDevice rd{d, d.name, p + 1};
+      rd.spec.name = sc.peers[p].vehicle_name + "." + d.name;
+      out.push_back(std::move(rd));
+    }
+  }
+  return out;
+}
+
+/// One line per device of every vehicle (run_devices() order), then each vehicle's DUT output
+/// line (primary first); an error names the device.
 Result<std::vector<Line>> open_lines(const Scenario& sc) {
   std::vector<Line> lines;
-  for (std::size_t i = 0; i <= sc.devices.size(); ++i) {
-    const bool output = i == sc.devices.size();
-    auto l = output ? open_line(sc.dut.output_port, sc.dut.output_baud)
-                    : open_line(sc.devices[i].port, sc.devices[i].baud);
+  for (const auto& d : run_devices(sc)) {
+    auto l = open_line(d.spec.port, d.spec.baud);
     if (!l) {
-      return fail(l.error().code, l.error().detail + " (" +
-                                      (output ? std::string("dut.output")
-                                              : "device '" + sc.devices[i].name + "'") + ")");
+      return fail(l.error().code,
+                  l.error().detail + " (device '" + d.spec.name + "')");
+    }
+    lines.push_back(std::move(*l));
+  }
+  for (std::size_t v = 0; v <= sc.peers.size(); ++v) {
+    const DutSpec& dut = v == 0 ? sc.dut : sc.peers[v - 1].dut;
+    auto l = open_line(dut.output_port, dut.output_baud);
+    if (!l) {
+      return fail(l.error().code,
+                  l.error().detail + " (" +
+                      (v == 0 ? std::string("dut.output")
+                              : "peer '" + sc.peers[v - 1].vehicle_name + "' dut.output") +
+                      ")");
     }
     lines.push_back(std::move(*l));
   }
@@ -120,42 +152,85 @@ Result<std::vector<Line>> open_lines(const Scenario& sc) {
 /// Everything one run holds while it executes.
 class Run {
  public:
-  Run(Scenario sc, emulators::TruthTrajectory truth, std::vector<Line> lines, fs::path dir,
-      bool quiet)
+  Run(Scenario sc, std::vector<emulators::TruthTrajectory> truths, std::vector<Line> lines,
+      fs::path dir, bool quiet)
       : sc_(std::move(sc)),
-        truth_(std::move(truth)),
+        truths_(std::move(truths)),
         dir_(std::move(dir)),
         quiet_(quiet),
-        lines_(std::move(lines)) {}
+        lines_(std::move(lines)) {
+    for (auto& d : run_devices(sc_)) {
+      devs_.push_back(std::move(d.spec));
+      local_names_.push_back(std::move(d.local_name));
+      dev_vehicle_.push_back(d.vehicle);
+    }
+    for (std::uint32_t v = 0; v <= sc_.peers.size(); ++v) {
+      Vehicle veh;
+      veh.name = v == 0 ? sc_.vehicle_name : sc_.peers[v - 1].vehicle_name;
+      veh.truth = &truths_[v];
+      veh.dut = v == 0 ? &sc_.dut : &sc_.peers[v - 1].dut;
+      veh.output_line = static_cast<std::uint32_t>(devs_.size() + v);
+      vehicles_.push_back(std::move(veh));
+    }
+  }
 
   reports::RunRecord execute();
 
  private:
+  /// One vehicle: the primary (index 0) or a peer (1 + its index in sc_.peers).
+  struct Vehicle {
+    std::string name;
+    const emulators::TruthTrajectory* truth = nullptr;
+    const DutSpec* dut = nullptr;
+    std::uint32_t output_line = 0;     ///< index into lines_
+    std::uint32_t trigger_device = 0;  ///< index into devs_
+    std::vector<std::string> argv;
+    std::unique_ptr<DutProcess> proc;
+    std::unique_ptr<OutputReader> reader;
+    FilePtr output_capture;            ///< peers: capture-rx-<name>.log
+    std::vector<TriggerRecord> triggers;
+    std::size_t triggers_sent = 0;
+    std::vector<Timestamp> sent_wire_ends;  ///< of the triggers sent, in send order
+    std::uint64_t last_trigger_tag = 0;
+    bool failed = false;  ///< crashed or hung
+    std::string status;
+  };
+
   void generate();
-  std::vector<std::string> dut_argv() const;
+  std::vector<std::string> dut_argv(std::uint32_t v) const;
   void run_realtime();
   void run_lockstep();
   void drain();
-  /// Watches the DUT; false (with status set) once it crashed or hung.
+  /// Watches every DUT; false (with status set) once one crashed or hung.
   bool dut_ok(Timestamp now);
+  bool vehicle_ok(Vehicle& veh, Timestamp now);
   void progress(Duration scenario_t);
-  /// A message of the trigger device that still carries its tag (a fault such as garbage or
-  /// truncated destroys it: the DUT cannot answer such a message).
+  /// A message of a vehicle's trigger device that still carries its tag (a fault such as
+  /// garbage or truncated destroys it: the DUT cannot answer such a message).
   bool is_trigger(const ScheduledMessage& m) const {
-    return m.device == trigger_device_ && message(m).trigger_tag.has_value();
+    return m.device == vehicles_[dev_vehicle_[m.device]].trigger_device &&
+           message(m).trigger_tag.has_value();
   }
   const emulators::WireMessage& message(const ScheduledMessage& m) const {
     return streams_[m.device][m.index];
   }
   bool is_gx3(std::uint32_t d) const {
-    return sc_.devices[d].type == DeviceSpec::Type::kMicrostrainGx3;
+    return devs_[d].type == DeviceSpec::Type::kMicrostrainGx3;
   }
-  /// Reads what the DUT wrote to each GX3's and each polled device's line: acts on a GX3's
-  /// commands (start/stop of continuous mode) and queues a polled device's answers;
-  /// scenario_t is the scenario time now (device timer, request time, captures).
+  Vehicle& vehicle_of(std::uint32_t d) { return vehicles_[dev_vehicle_[d]]; }
+  TriggerRecord& trigger_record(std::uint32_t k) {
+    const auto [v, i] = trigger_of_message_.at(k);
+    return vehicles_[v].triggers[i];
+  }
+  /// Reads what the DUT wrote to each GX3's, each polled device's and each modem's line: acts
+  /// on a GX3's commands (start/stop of continuous mode), queues a polled device's answers,
+  /// hands a modem's bytes to the acoustic channel; scenario_t is the scenario time now
+  /// (device timer, request time, captures).
   void poll_host_lines(Duration scenario_t);
   void handle_host_command(std::uint32_t d, const protocols::gx3::HostCommand& c,
                            Duration scenario_t);
+  /// Queues the channel's deliveries due by scenario_t as answers of the receiving modems.
+  void poll_channel(Duration scenario_t);
   /// Writes every queued answer due at or before scenario_t (see answers_).
   void send_due_answers(Duration scenario_t);
   /// Writes bytes to device d's line at once, waiting briefly for room; returns bytes written.
@@ -163,25 +238,36 @@ class Run {
   /// Realtime: sleeps until deadline; with polled devices in slices of at most
   /// kPollPeriod, reading requests and sending the answers that fall due in between.
   void wait_realtime(Timestamp deadline);
+  void note_trigger_sent(Vehicle& veh, const TriggerRecord& tr) {
+    ++veh.triggers_sent;
+    veh.sent_wire_ends.push_back(tr.wire_end);
+    veh.last_trigger_tag = tr.tag;
+  }
+  Duration max_watchdog() const {
+    Duration w{0};
+    for (const auto& v : vehicles_) w = std::max(w, v.dut->watchdog);
+    return w;
+  }
 
   Scenario sc_;
-  emulators::TruthTrajectory truth_;
+  std::vector<emulators::TruthTrajectory> truths_;  ///< per vehicle
   fs::path dir_;
   bool quiet_;
-  std::vector<Line> lines_;  // one per device, then the DUT's output
+  std::vector<Line> lines_;  // one per device (devs_), then each vehicle's DUT output
+  std::vector<DeviceSpec> devs_;  ///< every device of every vehicle (names qualified)
+  std::vector<std::string> local_names_;  ///< per device: its name in its vehicle
+  std::vector<std::uint32_t> dev_vehicle_;  ///< per device: index into vehicles_
+  std::vector<Vehicle> vehicles_;
 
   std::vector<std::vector<emulators::WireMessage>> streams_;
   /// What each device's stream faults did, per device (a polled device's are its emulator's).
   std::vector<std::vector<emulators::FaultRecord>> stream_fault_records_;
   WireSchedule schedule_;
-  std::uint32_t trigger_device_ = 0;
-  std::unique_ptr<DutProcess> dut_;
-  std::unique_ptr<OutputReader> reader_;
   FilePtr tx_capture_, rx_capture_;
   Timestamp t0_{};
 
-  std::vector<TriggerRecord> triggers_;
-  std::unordered_map<std::uint32_t, std::size_t> trigger_of_message_;
+  /// Schedule message index -> (vehicle, index into its triggers).
+  std::unordered_map<std::uint32_t, std::pair<std::uint32_t, std::size_t>> trigger_of_message_;
   std::vector<std::size_t> bytes_sent_, bytes_dropped_, messages_sent_;
   /// Per device: it streams (a GX3 only once started, see poll_host_lines; others always),
   /// the host's bytes not parsed yet, and the messages not written while not streaming.
@@ -196,22 +282,26 @@ class Run {
     std::uint32_t device = 0;
     emulators::WireMessage message;
   };
-  std::deque<Answer> answers_;  ///< sorted by message.t_send
+  std::deque<Answer> answers_;  ///< sorted by message.t_send (stable: equal times in order)
+  void queue_answer(std::uint32_t d, emulators::WireMessage m) {
+    const auto at = std::upper_bound(
+        answers_.begin(), answers_.end(), m.t_send,
+        [](Duration ts, const Answer& x) { return ts < x.message.t_send; });
+    answers_.insert(at, Answer{d, std::move(m)});
+  }
   bool any_polled_ = false;
+  /// Acoustic modems: per device its node in channel_ (-1: not a modem), per node its device.
+  std::vector<int> modem_node_;
+  std::vector<std::uint32_t> node_device_;
+  std::unique_ptr<emulators::AcousticChannel> channel_;
+  /// Latest time handed to the channel (on_bytes or poll) and latest poll: its times never
+  /// go backwards and bytes are never stamped before a poll (acoustic_modem.hpp).
+  Duration channel_time_{0}, channel_polled_{0};
   /// Lockstep: scenario time the DUT has reached, the end on the wire of the last message
   /// written (the DUT answers at once in lockstep, so its requests are stamped with it).
   Duration lockstep_now_{0};
   std::vector<reports::LatenessRow> lateness_;
-  std::size_t triggers_sent_ = 0;
-  std::vector<Timestamp> sent_wire_ends_;  // of the triggers sent, in send order
-  std::uint64_t last_trigger_tag_ = 0;
-  void note_trigger_sent(const TriggerRecord& tr) {
-    ++triggers_sent_;
-    sent_wire_ends_.push_back(tr.wire_end);
-    last_trigger_tag_ = tr.tag;
-  }
   bool crashed_ = false, hung_ = false;
-  std::string dut_status_;
   Duration next_progress_ = kProgressPeriod;
 };
 
@@ -230,6 +320,8 @@ std::vector<emulators::WireMessage> generate_stream(const DeviceSpec& dev,
       return emulators::generate_usbl(dev.usbl, truth, duration, seed);
     case DeviceSpec::Type::kKeller:
       return {};  // polled: its answers are made as the DUT's requests arrive
+    case DeviceSpec::Type::kAcousticModem:
+      return {};  // it writes only what the acoustic channel delivers
   }
   throw std::logic_error("unknown device type");
 }
@@ -243,15 +335,20 @@ const std::vector<emulators::MeasurementFault>& measurement_faults(const DeviceS
     case DeviceSpec::Type::kEbimu: return dev.ebimu.measurement_faults;
     case DeviceSpec::Type::kEvologicsUsbl: return dev.usbl.measurement_faults;
     case DeviceSpec::Type::kKeller: return dev.keller.measurement_faults;
+    case DeviceSpec::Type::kAcousticModem: {
+      static const std::vector<emulators::MeasurementFault> kNone;
+      return kNone;
+    }
   }
   throw std::logic_error("unknown device type");
 }
 
 void Run::generate() {
-  for (std::uint32_t d = 0; d < sc_.devices.size(); ++d) {
-    const auto& dev = sc_.devices[d];
+  for (std::uint32_t d = 0; d < devs_.size(); ++d) {
+    const auto& dev = devs_[d];
+    const auto& truth = *vehicle_of(d).truth;
     const auto seed = emulators::device_seed(sc_.seed, dev.name);
-    auto stream = generate_stream(dev, truth_, sc_.duration, seed);
+    auto stream = generate_stream(dev, truth, sc_.duration, seed);
     stream_fault_records_.emplace_back();
     if (!dev.faults.empty() && dev.type != DeviceSpec::Type::kKeller) {
       stream = emulators::apply_faults(std::move(stream), dev.faults,
@@ -259,43 +356,57 @@ void Run::generate() {
                                        &stream_fault_records_.back());
     }
     streams_.push_back(std::move(stream));
-    if (dev.name == sc_.dut.trigger) trigger_device_ = d;
+    if (local_names_[d] == vehicle_of(d).dut->trigger) vehicle_of(d).trigger_device = d;
     if (dev.type == DeviceSpec::Type::kKeller) {
       polled_.push_back(std::make_unique<emulators::KellerEmulator>(
-          dev.keller, truth_, dev.faults, seed,
+          dev.keller, truth, dev.faults, seed,
           emulators::device_seed(sc_.seed, dev.name + "/faults")));
       any_polled_ = true;
     } else {
       polled_.push_back(nullptr);
     }
+    if (dev.type == DeviceSpec::Type::kAcousticModem) {
+      modem_node_.push_back(static_cast<int>(node_device_.size()));
+      node_device_.push_back(d);
+      any_polled_ = true;  // its line is read like a polled device's
+    } else {
+      modem_node_.push_back(-1);
+    }
   }
-  answered_.assign(sc_.devices.size(), {});
+  if (!node_device_.empty()) {
+    std::vector<const emulators::TruthTrajectory*> nodes;
+    for (const auto d : node_device_) nodes.push_back(vehicle_of(d).truth);
+    channel_ = std::make_unique<emulators::AcousticChannel>(sc_.acoustic, std::move(nodes),
+                                                            sc_.seed);
+  }
+  answered_.assign(devs_.size(), {});
   std::vector<StreamInput> inputs;
-  for (std::uint32_t d = 0; d < sc_.devices.size(); ++d) {
-    inputs.push_back(StreamInput{&streams_[d], sc_.devices[d].baud});
+  for (std::uint32_t d = 0; d < devs_.size(); ++d) {
+    inputs.push_back(StreamInput{&streams_[d], devs_[d].baud});
   }
   schedule_ = build_schedule(inputs, kChunkPeriod);
   for (std::uint32_t k = 0; k < schedule_.messages.size(); ++k) {
     const auto& m = schedule_.messages[k];
     if (!is_trigger(m)) continue;
-    trigger_of_message_[k] = triggers_.size();
-    triggers_.push_back(TriggerRecord{message(m).trigger_tag.value_or(0), message(m).t_valid});
+    auto& veh = vehicle_of(m.device);
+    trigger_of_message_[k] = {dev_vehicle_[m.device], veh.triggers.size()};
+    veh.triggers.push_back(TriggerRecord{message(m).trigger_tag.value_or(0), message(m).t_valid});
   }
-  bytes_sent_.assign(sc_.devices.size(), 0);
-  bytes_dropped_.assign(sc_.devices.size(), 0);
-  messages_sent_.assign(sc_.devices.size(), 0);
-  suppressed_.assign(sc_.devices.size(), 0);
-  host_rx_.assign(sc_.devices.size(), {});
-  streaming_.assign(sc_.devices.size(), 1);
-  for (std::uint32_t d = 0; d < sc_.devices.size(); ++d) {
-    if (is_gx3(d)) streaming_[d] = sc_.devices[d].gx3_continuous ? 1 : 0;
+  bytes_sent_.assign(devs_.size(), 0);
+  bytes_dropped_.assign(devs_.size(), 0);
+  messages_sent_.assign(devs_.size(), 0);
+  suppressed_.assign(devs_.size(), 0);
+  host_rx_.assign(devs_.size(), {});
+  streaming_.assign(devs_.size(), 1);
+  for (std::uint32_t d = 0; d < devs_.size(); ++d) {
+    if (is_gx3(d)) streaming_[d] = devs_[d].gx3_continuous ? 1 : 0;
   }
 }
 
 void Run::poll_host_lines(Duration scenario_t) {
   namespace gx3 = protocols::gx3;
-  for (std::uint32_t d = 0; d < sc_.devices.size(); ++d) {
-    if (!is_gx3(d) && !polled_[d]) continue;
+  for (std::uint32_t d = 0; d < devs_.size(); ++d) {
+    if (!is_gx3(d) && !polled_[d] && modem_node_[d] < 0) continue;
     std::array<std::uint8_t, 256> buf{};
     for (;;) {
       // A non-blocking read of a pty master first pushes what the DUT has written to its
@@ -303,16 +414,20 @@ void Run::poll_host_lines(Duration scenario_t) {
       const ssize_t n = ::read(lines_[d].fd(), buf.data(), buf.size());
       if (n <= 0) break;  // nothing (EAGAIN) or a line error: the senders see those
       const std::span<const std::uint8_t> got(buf.data(), static_cast<std::size_t>(n));
-      write_capture_line(rx_capture_.get(), scenario_t, sc_.devices[d].name, got);
+      if (modem_node_[d] >= 0) {
+        // Channel times never go backwards (lockstep stamps need not be monotonic across
+        // lines); a write before scenario time 0 counts as at 0.
+        const Duration t = std::max({scenario_t, Duration{0}, channel_time_});
+        channel_time_ = t;
+        write_capture_line(rx_capture_.get(), t, devs_[d].name, got);
+        channel_->on_bytes(static_cast<std::size_t>(modem_node_[d]), got, t);
+        continue;
+      }
+      write_capture_line(rx_capture_.get(), scenario_t, devs_[d].name, got);
       if (polled_[d]) {
         // A request before scenario time 0 (during the DUT's startup) is answered as at 0.
         const Duration t = std::max(scenario_t, Duration{0});
-        for (auto& a : polled_[d]->on_bytes(got, t)) {
-          const auto at = std::upper_bound(
-              answers_.begin(), answers_.end(), a.t_send,
-              [](Duration ts, const Answer& x) { return ts < x.message.t_send; });
-          answers_.insert(at, Answer{d, std::move(a)});
-        }
+        for (auto& a : polled_[d]->on_bytes(got, t)) queue_answer(d, std::move(a));
         continue;
       }
       auto& rx = host_rx_[d];
@@ -341,12 +456,12 @@ void Run::handle_host_command(std::uint32_t d, const protocols::gx3::HostCommand
   // Set continuous: the emulator streams 0xCB only; another reply command stops the 0xCB
   // stream (the real device would stream that reply instead) but is still acknowledged.
   streaming_[d] = c.reply_command == gx3::kCmdAccelRateMag ? 1 : 0;
-  const auto ticks = static_cast<std::int64_t>(sc_.devices[d].gx3.timer_start_ticks) +
+  const auto ticks = static_cast<std::int64_t>(devs_[d].gx3.timer_start_ticks) +
                      std::llround(to_seconds(scenario_t) * gx3::kTicksPerSecond);
   const auto reply = gx3::encode(
       gx3::ContinuousModeReply{c.reply_command, static_cast<std::uint32_t>(ticks)});
   write_now(d, reply);
-  write_capture_line(tx_capture_.get(), scenario_t, sc_.devices[d].name, reply);
+  write_capture_line(tx_capture_.get(), scenario_t, devs_[d].name, reply);
   lines_[d].flush();
 }
 
@@ -367,7 +482,21 @@ std::size_t Run::write_now(std::uint32_t d, const protocols::Bytes& bytes) {
   return off;
 }
 
+void Run::poll_channel(Duration scenario_t) {
+  if (!channel_ || scenario_t < channel_polled_) return;
+  channel_polled_ = scenario_t;
+  channel_time_ = std::max(channel_time_, scenario_t);
+  for (auto& dl : channel_->poll(scenario_t)) {
+    emulators::WireMessage m;
+    m.t_valid = dl.t_deliver;
+    m.t_send = dl.t_deliver;
+    m.bytes = std::move(dl.bytes);
+    queue_answer(node_device_[dl.to], std::move(m));
+  }
+}
+
 void Run::send_due_answers(Duration scenario_t) {
+  poll_channel(scenario_t);
   while (!answers_.empty() && answers_.front().message.t_send <= scenario_t) {
     Answer a = std::move(answers_.front());
     answers_.pop_front();
@@ -376,10 +505,10 @@ void Run::send_due_answers(Duration scenario_t) {
         sc_.mode == TimeMode::kRealtime ? monotonic_now() - t0_ : a.message.t_send;
     write_now(a.device, a.message.bytes);
     ++messages_sent_[a.device];
-    write_capture_line(tx_capture_.get(), stamp, sc_.devices[a.device].name, a.message.bytes);
+    write_capture_line(tx_capture_.get(), stamp, devs_[a.device].name, a.message.bytes);
     lines_[a.device].flush();
     if (sc_.mode == TimeMode::kRealtime) {
-      lateness_.push_back(reports::LatenessRow{sc_.devices[a.device].name,
+      lateness_.push_back(reports::LatenessRow{devs_[a.device].name,
                                                to_seconds(a.message.t_send), to_seconds(stamp)});
     }
     answered_[a.device].push_back(std::move(a.message));
@@ -398,18 +527,24 @@ void Run::wait_realtime(Timestamp deadline) {
     if (now >= deadline || g_interrupted) return;
     Timestamp wake = std::min(deadline, now + kPollPeriod);
     if (!answers_.empty()) wake = std::min(wake, t0_ + answers_.front().message.t_send);
+    if (channel_) {
+      if (const auto e = channel_->next_event_time()) wake = std::min(wake, t0_ + *e);
+    }
     sleep_until(wake, g_interrupted);
   }
 }
 
-std::vector<std::string> Run::dut_argv() const {
+std::vector<std::string> Run::dut_argv(std::uint32_t v) const {
+  const Vehicle& veh = vehicles_[v];
   std::vector<std::string> argv;
-  for (std::string a : sc_.dut.command) {
-    for (std::size_t d = 0; d <= sc_.devices.size(); ++d) {
-      const std::string key =
-          "{port:" + (d < sc_.devices.size() ? sc_.devices[d].name : std::string("output")) + "}";
+  for (std::string a : veh.dut->command) {
+    for (std::size_t d = 0; d <= devs_.size(); ++d) {
+      if (d < devs_.size() && dev_vehicle_[d] != v) continue;
+      const bool output = d == devs_.size();
+      const std::string key = "{port:" + (output ? std::string("output") : local_names_[d]) + "}";
+      const std::string path = lines_[output ? veh.output_line : d].path();
       for (auto pos = a.find(key); pos != std::string::npos; pos = a.find(key)) {
-        a.replace(pos, key.size(), lines_[d].path());
+        a.replace(pos, key.size(), path);
       }
     }
     argv.push_back(a);
@@ -419,25 +554,35 @@ std::vector<std::string> Run::dut_argv() const {
 
 bool Run::dut_ok(Timestamp now) {
   if (crashed_ || hung_) return false;
-  if (!dut_->running()) {
+  for (auto& veh : vehicles_) {
+    if (!vehicle_ok(veh, now)) return false;
+  }
+  return true;
+}
+
+bool Run::vehicle_ok(Vehicle& veh, Timestamp now) {
+  if (!veh.proc->running()) {
     crashed_ = true;
+    veh.failed = true;
     char t[64];
     std::snprintf(t, sizeof t, " at t=%.3f s", to_seconds(now - t0_));
-    dut_status_ = "crashed: " + dut_->exit_description() + t;
+    veh.status = "crashed: " + veh.proc->exit_description() + t;
     return false;
   }
   // Hung: a trigger sent after the DUT's latest solution has waited longer than the
   // watchdog. A trigger the DUT rightly drops (it arrived damaged) is followed by solutions
   // to later triggers, so it does not count.
-  const Timestamp last_answer = reader_->last_answer_time();
-  const auto waiting = std::partition_point(sent_wire_ends_.begin(), sent_wire_ends_.end(),
-                                            [&](Timestamp w) { return w <= last_answer; });
-  if (waiting != sent_wire_ends_.end() && now - *waiting > sc_.dut.watchdog) {
+  const Timestamp last_answer = veh.reader->last_answer_time();
+  const auto waiting =
+      std::partition_point(veh.sent_wire_ends.begin(), veh.sent_wire_ends.end(),
+                           [&](Timestamp w) { return w <= last_answer; });
+  if (waiting != veh.sent_wire_ends.end() && now - *waiting > veh.dut->watchdog) {
     hung_ = true;
+    veh.failed = true;
     char t[128];
     std::snprintf(t, sizeof t, "hung: no solution for %.1f s at t=%.3f s",
                   to_seconds(now - std::max(*waiting, last_answer)), to_seconds(now - t0_));
-    dut_status_ = t;
+    veh.status = t;
     return false;
   }
   return true;
@@ -446,9 +591,10 @@ bool Run::dut_ok(Timestamp now) {
 void Run::progress(Duration scenario_t) {
   if (quiet_ || sc_.duration < 30s || scenario_t < next_progress_) return;
   next_progress_ += kProgressPeriod;
+  const Vehicle& veh = vehicles_.front();
   std::fprintf(stderr, "[navbench] t=%.0f/%.0f s, %zu solutions for %zu triggers\n",
-               to_seconds(scenario_t), to_seconds(sc_.duration), reader_->answer_count(),
-               triggers_sent_);
+               to_seconds(scenario_t), to_seconds(sc_.duration), veh.reader->answer_count(),
+               veh.triggers_sent);
 }
 
 void Run::run_realtime() {
@@ -482,18 +628,18 @@ void Run::run_realtime() {
     bytes_dropped_[m.device] += c.length - written;
     if (c.offset == 0) {
       first_byte[c.message] = start;
-      lateness_.push_back(reports::LatenessRow{sc_.devices[m.device].name, to_seconds(c.t),
+      lateness_.push_back(reports::LatenessRow{devs_[m.device].name, to_seconds(c.t),
                                                to_seconds(start - t0_)});
     }
     if (c.offset + c.length == bytes.size()) {
       ++messages_sent_[m.device];
       write_capture_line(tx_capture_.get(), first_byte[c.message] - t0_,
-                         sc_.devices[m.device].name, bytes);
+                         devs_[m.device].name, bytes);
       if (is_trigger(m)) {
-        auto& tr = triggers_[trigger_of_message_.at(c.message)];
+        auto& tr = trigger_record(c.message);
         tr.sent = true;
         tr.wire_end = done;
-        note_trigger_sent(tr);
+        note_trigger_sent(vehicle_of(m.device), tr);
       }
     }
   }
@@ -509,18 +655,20 @@ void Run::run_lockstep() {
     // answers due before this message's first byte go out first.
     poll_host_lines(lockstep_now_);
     send_due_answers(m.start);
-    if (!streaming_[m.device] && is_trigger(m) && triggers_sent_ == 0) {
+    Vehicle& veh = vehicle_of(m.device);
+    if (!streaming_[m.device] && is_trigger(m) && veh.triggers_sent == 0) {
       // The first trigger waits for the DUT's start command, as long as the watchdog allows.
-      const Timestamp wait_end = monotonic_now() + sc_.dut.watchdog;
+      const Timestamp wait_end = monotonic_now() + veh.dut->watchdog;
       while (!streaming_[m.device]) {
         if (g_interrupted || !dut_ok(monotonic_now())) return;
         if (monotonic_now() > wait_end) {
           hung_ = true;
+          veh.failed = true;
           char t[200];
           std::snprintf(t, sizeof t,
                         "hung: no start command (C4 C1 29 CB) on '%s' within %.1f s",
-                        sc_.devices[m.device].name.c_str(), to_seconds(sc_.dut.watchdog));
-          dut_status_ = t;
+                        local_names_[m.device].c_str(), to_seconds(veh.dut->watchdog));
+          veh.status = t;
           return;
         }
         pollfd p{fd, POLLIN, 0};
@@ -533,7 +681,7 @@ void Run::run_lockstep() {
       continue;
     }
     std::size_t off = 0;
-    const Timestamp give_up = monotonic_now() + sc_.dut.watchdog;
+    const Timestamp give_up = monotonic_now() + veh.dut->watchdog;
     while (off < bytes.size()) {
       const ssize_t n = ::write(fd, bytes.data() + off, bytes.size() - off);
       if (n > 0) {
@@ -548,35 +696,36 @@ void Run::run_lockstep() {
     bytes_sent_[m.device] += off;
     bytes_dropped_[m.device] += bytes.size() - off;
     ++messages_sent_[m.device];
-    write_capture_line(tx_capture_.get(), m.start, sc_.devices[m.device].name, bytes);
+    write_capture_line(tx_capture_.get(), m.start, devs_[m.device].name, bytes);
     lockstep_now_ = m.end;
     progress(m.start);
     if (!is_trigger(m)) {
       lines_[m.device].flush();  // visible to the DUT before the next trigger
       continue;
     }
-    auto& tr = triggers_[trigger_of_message_.at(k)];
+    auto& tr = trigger_record(k);
     tr.sent = true;
     tr.wire_end = monotonic_now();
-    note_trigger_sent(tr);
-    // Barrier: the next trigger leaves only once this one is answered.
-    const Timestamp deadline = tr.wire_end + sc_.dut.watchdog;
-    while (!reader_->wait_for(tr.tag, std::min(deadline, monotonic_now() + kCheckPeriod))) {
+    note_trigger_sent(veh, tr);
+    // Barrier: the next trigger leaves only once the DUT of its vehicle answered this one.
+    const Timestamp deadline = tr.wire_end + veh.dut->watchdog;
+    while (!veh.reader->wait_for(tr.tag, std::min(deadline, monotonic_now() + kCheckPeriod))) {
       if (g_interrupted || !dut_ok(monotonic_now())) return;
     }
   }
 }
 
 void Run::drain() {
-  // After the last message: wait until the last trigger is answered (or every trigger is),
+  // After the last message: wait until each DUT answered its last trigger (or every trigger),
   // at most one watchdog period; the rest count as unanswered.
-  const Timestamp end = monotonic_now() + sc_.dut.watchdog;
+  const Timestamp end = monotonic_now() + max_watchdog();
   while (!g_interrupted && dut_ok(monotonic_now())) {
     const Timestamp now = monotonic_now();
-    if (triggers_sent_ == 0 || reader_->answer_count() >= triggers_sent_ ||
-        reader_->wait_for(last_trigger_tag_, now) || now >= end) {
-      return;
-    }
+    const bool done = std::all_of(vehicles_.begin(), vehicles_.end(), [&](const Vehicle& v) {
+      return v.triggers_sent == 0 || v.reader->answer_count() >= v.triggers_sent ||
+             v.reader->wait_for(v.last_trigger_tag, now);
+    });
+    if (done || now >= end) return;
     std::this_thread::sleep_for(5ms);
   }
 }
@@ -590,13 +739,26 @@ reports::RunRecord Run::execute() {
   rx_capture_ = open_file(dir_ / "capture-rx.log");
   fs::copy_file(sc_.file, dir_ / "scenario.yaml");
 
-  const auto argv = dut_argv();
-  t0_ = monotonic_now() + sc_.dut.startup;
-  auto dut = DutProcess::start(argv, (dir_ / "dut.log").string());
-  if (!dut) throw std::runtime_error(dut.error().detail);
-  dut_ = std::make_unique<DutProcess>(std::move(*dut));
-  reader_ = std::make_unique<OutputReader>(lines_.back().fd(), rx_capture_.get(), t0_);
-  reader_->start();
+  Duration startup{0};
+  for (const auto& veh : vehicles_) startup = std::max(startup, veh.dut->startup);
+  t0_ = monotonic_now() + startup;
+  for (std::uint32_t v = 0; v < vehicles_.size(); ++v) {
+    Vehicle& veh = vehicles_[v];
+    veh.argv = dut_argv(v);
+    // The primary's DUT log and output capture keep their single-vehicle names.
+    const std::string log = v == 0 ? "dut.log" : "dut-" + veh.name + ".log";
+    auto dut = DutProcess::start(veh.argv, (dir_ / log).string());
+    if (!dut) {
+      throw std::runtime_error(v == 0 ? dut.error().detail
+                                      : "peer '" + veh.name + "': " + dut.error().detail);
+    }
+    veh.proc = std::make_unique<DutProcess>(std::move(*dut));
+    if (v > 0) veh.output_capture = open_file(dir_ / ("capture-rx-" + veh.name + ".log"));
+    veh.reader = std::make_unique<OutputReader>(
+        lines_[veh.output_line].fd(), v == 0 ? rx_capture_.get() : veh.output_capture.get(),
+        t0_);
+    veh.reader->start();
+  }
   try_realtime_priority(20);
   while (monotonic_now() < t0_ && !g_interrupted && dut_ok(monotonic_now())) {
     std::this_thread::sleep_for(5ms);
@@ -609,20 +771,32 @@ reports::RunRecord Run::execute() {
     else run_lockstep();
     if (dut_ok(monotonic_now()) && !g_interrupted) drain();
   }
-  const bool alive = !crashed_ && !hung_ && dut_->running();
-  if (alive) dut_status_ = "alive until the end (pid " + std::to_string(dut_->pid()) + ")";
-  if (alive && triggers_sent_ == 0 && !triggers_.empty() && is_gx3(trigger_device_) &&
-      suppressed_[trigger_device_] > 0) {
-    dut_status_ += "; no solutions: it never sent the start command (C4 C1 29 CB) on '" +
-                   sc_.dut.trigger + "', " + std::to_string(suppressed_[trigger_device_]) +
-                   " packets not sent";
+  for (auto& veh : vehicles_) {
+    const bool alive = !crashed_ && !hung_ && veh.proc->running();
+    if (alive) veh.status = "alive until the end (pid " + std::to_string(veh.proc->pid()) + ")";
+    const bool gx3 = is_gx3(veh.trigger_device);
+    if (alive && veh.triggers_sent == 0 && !veh.triggers.empty() && gx3 &&
+        suppressed_[veh.trigger_device] > 0) {
+      veh.status += "; no solutions: it never sent the start command (C4 C1 29 CB) on '" +
+                    veh.dut->trigger + "', " +
+                    std::to_string(suppressed_[veh.trigger_device]) + " packets not sent";
+    }
   }
-  dut_->stop();
-  reader_->stop();
+  Vehicle& primary = vehicles_.front();
+  const bool alive = !crashed_ && !hung_ && primary.proc->running();
+  std::string dut_status = primary.status;
+  if (dut_status.empty() && !primary.failed && primary.proc->running()) {
+    dut_status = "alive (pid " + std::to_string(primary.proc->pid()) + ")";
+  }
+  for (std::size_t v = 1; v < vehicles_.size(); ++v) {
+    if (vehicles_[v].failed) dut_status += "; peer '" + vehicles_[v].name + "' " + vehicles_[v].status;
+  }
+  for (auto& veh : vehicles_) veh.proc->stop();
+  for (auto& veh : vehicles_) veh.reader->stop();
   std::fflush(tx_capture_.get());
 
-  const TruthTable table(truth_, sc_.duration, sc_.truth_rate_hz);
-  JudgeInput in{&sc_, &table, triggers_, reader_->answers(), t0_, alive, dut_status_};
+  const TruthTable table(*primary.truth, sc_.duration, sc_.truth_rate_hz);
+  JudgeInput in{&sc_, &table, primary.triggers, primary.reader->answers(), t0_, alive, dut_status};
   JudgeOutput j = judge(in);
 
   rec.scenario_name = sc_.name;
@@ -630,12 +804,12 @@ reports::RunRecord Run::execute() {
   rec.mode = sc_.mode == TimeMode::kRealtime ? "realtime" : "lockstep";
   rec.seed = sc_.seed;
   rec.duration_s = to_seconds(sc_.duration);
-  rec.dut_command = argv;
-  rec.dut_status = dut_status_;
-  rec.triggers_sent = triggers_sent_;
+  rec.dut_command = primary.argv;
+  rec.dut_status = dut_status;
+  rec.triggers_sent = primary.triggers_sent;
   rec.answers = in.answers.size();
   rec.unmatched_answers = j.unmatched_answers;
-  rec.malformed_output = reader_->malformed();
+  rec.malformed_output = primary.reader->malformed();
   rec.checks = std::move(j.checks);
   rec.aligned = std::move(j.aligned);
   rec.latency = std::move(j.latency);
@@ -646,14 +820,14 @@ reports::RunRecord Run::execute() {
   rec.lateness = std::move(lateness_);
   rec.lateness_budget_p99_s = to_seconds(sc_.lateness_budget_p99);
   for (const auto& s : table.samples()) rec.truth.push_back({to_seconds(s.t), s.p_n, s.q_nb});
-  for (std::size_t d = 0; d < sc_.devices.size(); ++d) {
-    const auto& dev = sc_.devices[d];
+  for (std::size_t d = 0; d < devs_.size(); ++d) {
+    const auto& dev = devs_[d];
     rec.devices.push_back({dev.name, device_type_name(dev.type), lines_[d].path(), dev.baud,
                            emulators::device_seed(sc_.seed, dev.name), messages_sent_[d],
                            bytes_sent_[d], bytes_dropped_[d], suppressed_[d]});
   }
-  for (std::uint32_t d = 0; d < sc_.devices.size(); ++d) {
-    const auto& dev = sc_.devices[d];
+  for (std::uint32_t d = 0; d < devs_.size(); ++d) {
+    const auto& dev = devs_[d];
     auto records = polled_[d] ? polled_[d]->fault_records() : stream_fault_records_[d];
     // Measurement faults affect the messages whose time of validity is in their window.
     const auto& sent = polled_[d] ? answered_[d] : streams_[d];
@@ -662,6 +836,19 @@ reports::RunRecord Run::execute() {
     }
     for (const auto& f : records) {
       rec.faults.push_back({dev.name, f.kind, f.start_s, f.end_s, f.messages_affected});
+    }
+  }
+  for (std::size_t v = 1; v < vehicles_.size(); ++v) {
+    const auto& veh = vehicles_[v];
+    rec.peers.push_back({veh.name, veh.argv, veh.status, veh.triggers_sent,
+                         veh.reader->answer_count()});
+  }
+  if (channel_) {
+    for (const auto& l : channel_->link_stats()) {
+      rec.modem_links.push_back({devs_[node_device_[l.from]].name, devs_[node_device_[l.to]].name,
+                                 l.packets_sent, l.packets_delivered, l.packets_lost,
+                                 l.packets_out_of_range, l.bytes_delivered,
+                                 to_seconds(l.min_propagation), to_seconds(l.max_propagation)});
     }
   }
   const bool any_failed = std::any_of(rec.checks.begin(), rec.checks.end(),
@@ -698,23 +885,36 @@ int run_scenario(const RunOptions& o) {
     return kExitUsage;
   }
   if (o.mode) sc->mode = *o.mode;
-  auto truth = emulators::TruthTrajectory::build(sc->trajectory);
-  if (!truth) {
-    // Errors about a segment ("segment 3 (arc): ...") point at that segment in the file.
-    const std::string& detail = truth.error().detail;
-    std::string where = sc->file + ": vehicle.path";
-    unsigned index = 0;
-    if (std::sscanf(detail.c_str(), "segment %u", &index) == 1 &&
-        index < sc->segment_locations.size()) {
-      where = sc->segment_locations[index];
+  std::vector<emulators::TruthTrajectory> truths;
+  for (std::size_t v = 0; v <= sc->peers.size(); ++v) {
+    const auto& spec = v == 0 ? sc->trajectory : sc->peers[v - 1].trajectory;
+    const auto& locations = v == 0 ? sc->segment_locations : sc->peers[v - 1].segment_locations;
+    auto truth = emulators::TruthTrajectory::build(spec);
+    if (!truth) {
+      // Errors about a segment ("segment 3 (arc): ...") point at that segment in the file.
+      const std::string& detail = truth.error().detail;
+      std::string where = sc->file + (v == 0 ? std::string(": vehicle.path")
+                                             : ": peers[" + std::to_string(v - 1) +
+                                                   "].vehicle.path");
+      unsigned index = 0;
+      if (std::sscanf(detail.c_str(), "segment %u", &index) == 1 && index < locations.size()) {
+        where = locations[index];
+      }
+      std::fprintf(stderr, "navbench: %s: %s\n", where.c_str(), detail.c_str());
+      return kExitUsage;
     }
-    std::fprintf(stderr, "navbench: %s: %s\n", where.c_str(), detail.c_str());
-    return kExitUsage;
+    truths.push_back(std::move(*truth));
   }
-  if (!DutProcess::resolve(sc->dut.command.front())) {
-    std::fprintf(stderr, "navbench: %s: dut.command: program '%s' not found (looked beside "
-                 "navbench and in PATH)\n", sc->file.c_str(), sc->dut.command.front().c_str());
-    return kExitUsage;
+  for (std::size_t v = 0; v <= sc->peers.size(); ++v) {
+    const auto& dut = v == 0 ? sc->dut : sc->peers[v - 1].dut;
+    if (!DutProcess::resolve(dut.command.front())) {
+      const std::string key =
+          v == 0 ? "dut.command" : "peers[" + std::to_string(v - 1) + "].dut.command";
+      std::fprintf(stderr, "navbench: %s: %s: program '%s' not found (looked beside "
+                   "navbench and in PATH)\n", sc->file.c_str(), key.c_str(),
+                   dut.command.front().c_str());
+      return kExitUsage;
+    }
   }
   auto lines = open_lines(*sc);
   if (!lines) {
@@ -746,7 +946,7 @@ int run_scenario(const RunOptions& o) {
   ::signal(SIGPIPE, SIG_IGN);
 
   try {
-    Run run(std::move(*sc), std::move(*truth), std::move(*lines), partial, o.quiet);
+    Run run(std::move(*sc), std::move(truths), std::move(*lines), partial, o.quiet);
     reports::RunRecord rec = run.execute();
     rec.run_dir = final_dir.string();
     reports::write_reports(rec, partial.string());

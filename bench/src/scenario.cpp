@@ -346,9 +346,121 @@ void read_checks(const Field& f, Scenario& s) {
   }
 }
 
+std::size_t count_modems(const std::vector<DeviceSpec>& devices) {
+  return static_cast<std::size_t>(
+      std::count_if(devices.begin(), devices.end(), [](const DeviceSpec& d) {
+        return d.type == DeviceSpec::Type::kAcousticModem;
+      }));
+}
+
+/// Where a vehicle's name is written (its name field, else the vehicle map).
+Field vehicle_name_field(const Field& vehicle) {
+  if (vehicle.node().IsMap()) {
+    if (auto n = vehicle.peek("name")) return *n;
+  }
+  return vehicle;
+}
+
+/// The top-level `peers:` list: further vehicles, each read like the primary one (vehicle and
+/// dut sections) into a scratch Scenario that shares the primary's datum, seed and duration.
+void read_peers(const Field& f, Scenario& s) {
+  std::map<std::string, std::string> ports;  // device path -> "vehicle.device", every vehicle
+  auto claim = [&](const std::string& port, const std::string& owner, const Field& where) {
+    if (port == "pty") return;
+    const auto [p, fresh] = ports.emplace(port, owner);
+    if (!fresh) where.fail("port " + port + " is already used by " + quoted(p->second));
+  };
+  for (const auto& d : s.devices) claim(d.port, s.vehicle_name + "." + d.name, f);
+  if (s.dut.output_port != "pty") ports.emplace(s.dut.output_port, s.vehicle_name + ".output");
+  std::map<std::string, int> vehicles{{s.vehicle_name, 0}};
+  for (const Field& item : f.list("a list of peers ({vehicle: ..., dut: ...})", 0)) {
+    if (!item.node().IsMap()) item.fail("expected a peer map {vehicle, dut}, got " +
+                                        what_is(item.node()));
+    const MapReader m(item, {"vehicle", "dut"});
+    Scenario tmp;
+    tmp.file = s.file;
+    tmp.seed = s.seed;
+    tmp.duration = s.duration;
+    tmp.mode = s.mode;
+    tmp.datum = s.datum;
+    const Field vehicle = m.required("vehicle");
+    read_vehicle(vehicle, tmp);
+    const auto [it, fresh] = vehicles.emplace(tmp.vehicle_name, item.mark().line + 1);
+    if (!fresh) {
+      vehicle_name_field(vehicle).fail(
+          "duplicate vehicle name " + quoted(tmp.vehicle_name) +
+          (it->second == 0 ? std::string(" (the primary vehicle's)")
+                           : " (first at line " + std::to_string(it->second) + ")") +
+          "; give each vehicle its own name");
+    }
+    read_dut(m.required("dut"), tmp);
+    const auto items = vehicle.peek("devices")->list("a list of devices", 1);
+    for (std::size_t i = 0; i < tmp.devices.size() && i < items.size(); ++i) {
+      const Field& d = items[i];
+      claim(tmp.devices[i].port, tmp.vehicle_name + "." + tmp.devices[i].name,
+            d.peek("port") ? *d.peek("port") : d);
+    }
+    PeerSpec p;
+    p.vehicle_name = std::move(tmp.vehicle_name);
+    p.seabed_depth_m = tmp.seabed_depth_m;
+    p.trajectory = std::move(tmp.trajectory);
+    p.devices = std::move(tmp.devices);
+    p.dut = std::move(tmp.dut);
+    p.segment_locations = std::move(tmp.segment_locations);
+    s.peers.push_back(std::move(p));
+  }
+}
+
+/// An acoustic bit rate: a plain number or "<n> bit/s" / "<n> bps" [bit/s], > 0.
+double read_bit_rate(const Field& f) {
+  const std::string expected = "a bit rate such as '1000 bit/s' or 1000";
+  std::string t = f.text(expected);
+  for (const std::string_view unit : {"bit/s", "bps"}) {
+    if (t.size() > unit.size() && t.compare(t.size() - unit.size(), unit.size(), unit) == 0) {
+      t.resize(t.size() - unit.size());
+      break;
+    }
+  }
+  while (!t.empty() && t.back() == ' ') t.pop_back();
+  char* end = nullptr;
+  errno = 0;
+  const double v = t.empty() ? 0.0 : std::strtod(t.c_str(), &end);
+  if (t.empty() || errno != 0 || end != t.c_str() + t.size() || !(v > 0.0) || !std::isfinite(v)) {
+    f.fail("expected " + expected + " (> 0), got " + quoted(f.node().Scalar()));
+  }
+  return v;
+}
+
+/// The top-level `acoustic:` section (AcousticModemConfig); needs two modems or more.
+void read_acoustic(const Field& f, Scenario& s) {
+  const MapReader m(f, {"bit_rate", "latency", "sound_speed", "loss", "max_range", "packet_gap",
+                        "max_packet"});
+  auto& c = s.acoustic;
+  if (auto v = m.optional("bit_rate")) c.bit_rate_bps = read_bit_rate(*v);
+  if (auto v = m.optional("latency")) c.latency = v->duration(Bound::kNonNegative);
+  if (auto v = m.optional("sound_speed")) {
+    c.sound_speed_mps = v->quantity(Dimension::kSpeed, Bound::kPositive);
+  }
+  if (auto v = m.optional("loss")) c.loss_probability = v->probability();
+  if (auto v = m.optional("max_range")) {
+    c.max_range_m = v->quantity(Dimension::kLength, Bound::kPositive);
+  }
+  if (auto v = m.optional("packet_gap")) c.packet_gap = v->duration(Bound::kPositive);
+  if (auto v = m.optional("max_packet")) {
+    c.max_packet_bytes = v->integer<std::size_t>(1, 65536);
+  }
+  std::size_t modems = count_modems(s.devices);
+  for (const auto& p : s.peers) modems += count_modems(p.devices);
+  if (modems < 2) {
+    f.fail("an acoustic channel needs at least two acoustic-modem devices (the scenario has " +
+           std::to_string(modems) + ")");
+  }
+}
+
 Scenario read_scenario(const Field& root, const std::string& file) {
   const MapReader top(root, {"name", "description", "seed", "duration", "mode", "datum",
-                             "truth_rate", "bench", "vehicle", "dut", "checks"});
+                             "truth_rate", "bench", "vehicle", "dut", "checks", "peers",
+                             "acoustic"});
   Scenario s;
   s.file = file;
   s.name = top.required("name").identifier();
@@ -366,6 +478,8 @@ Scenario read_scenario(const Field& root, const std::string& file) {
   read_vehicle(top.required("vehicle"), s);
   read_dut(top.required("dut"), s);
   if (auto v = top.optional("checks")) read_checks(*v, s);
+  if (auto v = top.optional("peers")) read_peers(*v, s);
+  if (auto v = top.optional("acoustic")) read_acoustic(*v, s);
   return s;
 }
 

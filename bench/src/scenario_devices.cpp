@@ -484,7 +484,8 @@ std::vector<emulators::MeasurementFault::Kind> special_fault_kinds(DeviceSpec::T
     case DeviceSpec::Type::kEvologicsUsbl: return {MK::kUsblOutliers};
     case DeviceSpec::Type::kMicrostrainGx3:
     case DeviceSpec::Type::kEbimu:
-    case DeviceSpec::Type::kKeller: break;
+    case DeviceSpec::Type::kKeller:
+    case DeviceSpec::Type::kAcousticModem: break;
   }
   return {};
 }
@@ -499,6 +500,7 @@ std::vector<emulators::Quantity> fault_quantities(DeviceSpec::Type t) {
     case DeviceSpec::Type::kNmeaGps: return {Q::kVelocity};
     case DeviceSpec::Type::kEvologicsUsbl: return {Q::kRange};
     case DeviceSpec::Type::kKeller: return {Q::kPressure};
+    case DeviceSpec::Type::kAcousticModem: break;
   }
   return {};
 }
@@ -526,6 +528,7 @@ std::vector<emulators::MeasurementFault>& measurement_faults(DeviceSpec& d) {
     case DeviceSpec::Type::kEbimu: return d.ebimu.measurement_faults;
     case DeviceSpec::Type::kEvologicsUsbl: return d.usbl.measurement_faults;
     case DeviceSpec::Type::kKeller: return d.keller.measurement_faults;
+    case DeviceSpec::Type::kAcousticModem: break;  // takes no faults (read_device())
   }
   return d.gx3.measurement_faults;
 }
@@ -700,12 +703,13 @@ DeviceSpec read_device(const Field& item, const Scenario& s) {
       {"dvl", Type::kDvl},
       {"ebimu-9dof", Type::kEbimu},
       {"evologics-usbl", Type::kEvologicsUsbl},
-      {"keller-rs485", Type::kKeller}};
+      {"keller-rs485", Type::kKeller},
+      {"acoustic-modem", Type::kAcousticModem}};
   if (!item.node().IsMap()) item.fail("expected a device map, got " + what_is(item.node()));
   const auto type_field = item.peek("type");
   if (!type_field) {
     item.fail("missing required key 'type' (microstrain-gx3-25, nmea0183-gps, dvl, ebimu-9dof, "
-              "evologics-usbl or keller-rs485)");
+              "evologics-usbl, keller-rs485 or acoustic-modem)");
   }
   DeviceSpec d;
   d.type = type_field->choice(types);
@@ -733,6 +737,10 @@ DeviceSpec read_device(const Field& item, const Scenario& s) {
       keys.insert(keys.end(), {"address", "density", "atmosphere", "gauge", "response_time",
                                "serial_number", "temperature"});
       break;
+    case Type::kAcousticModem:
+      // A node of the acoustic channel: no stream, no error model, no faults.
+      keys = {"name", "type", "port", "baud"};
+      break;
   }
   const MapReader m(item, keys);
 
@@ -748,6 +756,7 @@ DeviceSpec read_device(const Field& item, const Scenario& s) {
     case Type::kEbimu: d.baud = 115200; rate_hz = 100.0; break;
     case Type::kEvologicsUsbl: d.baud = 19200; rate_hz = 1.0; break;
     case Type::kKeller: d.baud = 9600; break;  // polled: the DUT sets the rate
+    case Type::kAcousticModem: d.baud = 9600; break;  // the DUT's serial side of the modem
   }
   if (auto v = m.optional("baud")) d.baud = v->baud();
   if (auto v = m.optional("rate")) rate_hz = v->rate();
@@ -793,6 +802,8 @@ DeviceSpec read_device(const Field& item, const Scenario& s) {
     case Type::kKeller:
       read_keller(m, d.keller);
       break;  // polled: nothing is sent unasked, so there is no stream to fit on the line
+    case Type::kAcousticModem:
+      break;  // sends only what the channel delivers
   }
 
   // Does the stream fit on the line?
@@ -855,6 +866,7 @@ const char* device_type_name(DeviceSpec::Type t) {
     case DeviceSpec::Type::kEbimu: return "ebimu-9dof";
     case DeviceSpec::Type::kEvologicsUsbl: return "evologics-usbl";
     case DeviceSpec::Type::kKeller: return "keller-rs485";
+    case DeviceSpec::Type::kAcousticModem: return "acoustic-modem";
   }
   return "?";
 }

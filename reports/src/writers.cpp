@@ -99,6 +99,25 @@ void write_summary(const RunRecord& r, const std::string& dir) {
                            {"end_s", fr.end_s},
                            {"messages_affected", fr.messages_affected}});
   }
+  // Only multi-vehicle or modem scenarios have these (single-vehicle summaries unchanged).
+  for (const auto& p : r.peers) {
+    j["peers"].push_back({{"name", p.name},
+                          {"dut", {{"command", p.dut_command},
+                                   {"status", p.dut_status},
+                                   {"triggers_sent", p.triggers_sent},
+                                   {"answers", p.answers}}}});
+  }
+  for (const auto& l : r.modem_links) {
+    j["acoustic_links"].push_back({{"from", l.from},
+                                   {"to", l.to},
+                                   {"packets_sent", l.packets_sent},
+                                   {"packets_delivered", l.packets_delivered},
+                                   {"packets_lost", l.packets_lost},
+                                   {"packets_out_of_range", l.packets_out_of_range},
+                                   {"bytes_delivered", l.bytes_delivered},
+                                   {"min_propagation_s", l.min_propagation_s},
+                                   {"max_propagation_s", l.max_propagation_s}});
+  }
   File f(dir, "summary.json");
   *f << j.dump(2) << '\n';
 }
@@ -217,6 +236,15 @@ std::string verdict_text(const RunRecord& r) {
   if (r.unmatched_answers) o << ", " << r.unmatched_answers << " naming no trigger";
   if (r.malformed_output) o << ", " << r.malformed_output << " malformed lines";
   o << '\n';
+  for (const auto& p : r.peers) {
+    o << "  peer " << p.name << ": DUT " << p.dut_status << "; " << p.answers
+      << " solutions for " << p.triggers_sent << " triggers\n";
+  }
+  for (const auto& l : r.modem_links) {
+    o << "  acoustic " << l.from << " -> " << l.to << ": " << l.packets_delivered << " of "
+      << l.packets_sent << " packets delivered, " << l.packets_lost << " lost, "
+      << l.packets_out_of_range << " out of range\n";
+  }
   for (const auto& c : r.checks) {
     const char* tag = !c.judged ? "SKIP" : c.passed ? "PASS" : "FAIL";
     std::snprintf(line, sizeof line, "  %s  %-17s %s\n", tag, c.name.c_str(), c.detail.c_str());

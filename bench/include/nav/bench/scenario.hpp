@@ -10,6 +10,7 @@
 #include "nav/common/geodesy.hpp"
 #include "nav/common/result.hpp"
 #include "nav/common/time.hpp"
+#include "nav/emulators/acoustic_modem.hpp"
 #include "nav/emulators/device.hpp"
 #include "nav/emulators/dvl_emulator.hpp"
 #include "nav/emulators/ebimu_emulator.hpp"
@@ -24,8 +25,11 @@ enum class TimeMode { kRealtime, kLockstep };
 
 /// One emulated device on its own serial line.
 struct DeviceSpec {
-  enum class Type { kMicrostrainGx3, kNmeaGps, kDvl, kEbimu, kEvologicsUsbl, kKeller };
-  std::string name;     ///< unique in the scenario; used in "{port:NAME}" and captures
+  enum class Type {
+    kMicrostrainGx3, kNmeaGps, kDvl, kEbimu, kEvologicsUsbl, kKeller,
+    kAcousticModem  ///< a node of the scenario's acoustic channel (no stream of its own)
+  };
+  std::string name;     ///< unique in its vehicle; used in "{port:NAME}" and captures
   Type type = Type::kMicrostrainGx3;
   std::string port = "pty";  ///< "pty" or a device path such as /dev/ttyUSB0
   int baud = 115200;         ///< line rate [bit/s]; 8N1 = 10 bits per byte
@@ -70,6 +74,17 @@ struct CheckSpec {
   std::string name;            ///< display name ("horizontal_error", ...)
 };
 
+/// A further vehicle (top-level `peers:`): its own path, devices and DUT. Its devices are
+/// named here as in its file section; in captures and reports they are "<vehicle_name>.<name>".
+struct PeerSpec {
+  std::string vehicle_name;
+  std::optional<double> seabed_depth_m;
+  emulators::TrajectorySpec trajectory;
+  std::vector<DeviceSpec> devices;
+  DutSpec dut;
+  std::vector<std::string> segment_locations;  ///< as Scenario::segment_locations
+};
+
 struct Scenario {
   std::string file;          ///< path it was loaded from
   std::string name;
@@ -84,6 +99,11 @@ struct Scenario {
   std::vector<DeviceSpec> devices;
   DutSpec dut;
   std::vector<CheckSpec> checks;
+  /// Further vehicles, each with its own DUT (checks stay on the primary vehicle above).
+  std::vector<PeerSpec> peers;
+  /// The acoustic channel that joins every acoustic-modem of every vehicle (top-level
+  /// `acoustic:`; defaults of AcousticModemConfig when absent).
+  emulators::AcousticModemConfig acoustic;
   double truth_rate_hz = 50.0;           ///< truth.tum sample rate [Hz]
   Duration lateness_budget_p99{std::chrono::milliseconds(5)};  ///< bench-late above this
   /// "file:line:col" of each path segment, parallel to trajectory.segments, so that an error

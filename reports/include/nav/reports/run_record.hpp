@@ -80,6 +80,24 @@ struct FaultRow {
   std::size_t messages_affected = 0;  ///< messages removed or altered
 };
 
+/// A further vehicle of the run (scenario `peers:`) and how its DUT did. Checks are judged on
+/// the primary vehicle only.
+struct PeerRow {
+  std::string name;                      ///< vehicle name
+  std::vector<std::string> dut_command;  ///< argv as started
+  std::string dut_status;                ///< as RunRecord::dut_status
+  std::size_t triggers_sent = 0, answers = 0;  ///< answers: solutions received
+};
+
+/// One directed acoustic link (emulators::LinkStats, modems named "<vehicle>.<device>" for
+/// peers, by their device name on the primary vehicle).
+struct ModemLinkRow {
+  std::string from, to;
+  std::uint64_t packets_sent = 0, packets_delivered = 0, packets_lost = 0,
+                packets_out_of_range = 0, bytes_delivered = 0;
+  double min_propagation_s = 0.0, max_propagation_s = 0.0;  ///< of delivered packets [s]
+};
+
 /// "gps checksum 10.0–15.0 s, 4 messages": one fault in one line (verdict screen, junit).
 std::string fault_text(const FaultRow& f);
 
@@ -103,6 +121,8 @@ struct RunRecord {
   std::vector<AlignedSample> aligned;
   std::vector<LatencyRow> latency;
   std::vector<LatenessRow> lateness;
+  std::vector<PeerRow> peers;             ///< empty for a single-vehicle scenario
+  std::vector<ModemLinkRow> modem_links;  ///< every directed link between two modems
   double wall_time_s = 0.0;         ///< how long the run took
 };
 
