@@ -20,10 +20,6 @@ namespace {
 constexpr int kMaxIterations = 50;         ///< fixed-point iterations of the travel time
 constexpr double kTravelTolerance_s = 1e-10;  ///< below the 1 ns resolution of the result [s]
 
-/// 53-bit uniform in [0, 1) from one raw engine output.
-double unit_uniform(std::mt19937_64& rng) {
-  return static_cast<double>(rng() >> 11) * 0x1.0p-53;
-}
 
 }  // namespace
 

@@ -125,10 +125,6 @@ std::array<Vec3, kBeams> beam_vectors(double a) {
   return b;
 }
 
-/// Uniform in [0, 1) from one raw output (53 bits).
-double uniform01(std::mt19937_64& rng) {
-  return static_cast<double>(rng() >> 11) * 0x1.0p-53;
-}
 
 /// One ping; lock_lost and velocity_step are the measurement faults active at s.t.
 Ping measure(const DvlConfig& cfg, const std::array<Vec3, kBeams>& beams, const TruthSample& s,
@@ -141,7 +137,7 @@ Ping measure(const DvlConfig& cfg, const std::array<Vec3, kBeams>& beams, const 
   const double cos_a = std::cos(cfg.beam_angle_rad);
 
   std::array<bool, kBeams> dropped{};
-  for (int i = 0; i < kBeams; ++i) dropped[i] = uniform01(rng) < cfg.beam_dropout_probability;
+  for (int i = 0; i < kBeams; ++i) dropped[i] = unit_uniform(rng) < cfg.beam_dropout_probability;
   std::array<double, kBeams> noise{};
   for (int i = 0; i < kBeams; ++i) noise[i] = standard_normal(rng);
 

@@ -58,15 +58,15 @@ std::uint64_t splitmix64(std::uint64_t x) {
   return z ^ (z >> 31);
 }
 
-/// 53-bit uniform in [0, 1) from one raw engine output.
-double unit_uniform(std::mt19937_64& rng) {
-  return static_cast<double>(rng() >> 11) * 0x1.0p-53;
-}
 
 }  // namespace
 
 std::uint64_t device_seed(std::uint64_t scenario_seed, std::string_view device_name) {
   return splitmix64(scenario_seed ^ fnv1a64(device_name));
+}
+
+double unit_uniform(std::mt19937_64& rng) {
+  return static_cast<double>(rng() >> 11) * 0x1.0p-53;
 }
 
 double standard_normal(std::mt19937_64& rng) {

@@ -48,8 +48,6 @@ namespace {
 
 using Kind = FaultSpec::Kind;
 
-/// 53-bit uniform in [0, 1) from one raw engine output.
-double uniform01(std::mt19937_64& rng) { return static_cast<double>(rng() >> 11) * 0x1.0p-53; }
 
 bool inside(const WireMessage& m, const FaultSpec& f) {
   return f.start <= m.t_valid && m.t_valid < f.end;
@@ -97,29 +95,6 @@ void corrupt_checksum(protocols::Bytes& b) {
   }
 }
 
-void check_spec(const FaultSpec& f) {
-  NAV_ENSURE(f.start <= f.end, "fault window end must not precede its start");
-  switch (f.kind) {
-    case Kind::kIntermittent:
-    case Kind::kChecksum:
-    case Kind::kTruncated:
-    case Kind::kByteLoss:
-      NAV_ENSURE(std::isfinite(f.probability) && f.probability >= 0.0 && f.probability <= 1.0,
-                 "fault probability must be in [0, 1]");
-      break;
-    case Kind::kSlow:
-      NAV_ENSURE(std::isfinite(f.factor) && f.factor > 0.0 && f.factor < 1e9,
-                 "slow fault factor must be finite and > 0");
-      break;
-    case Kind::kDelayed:
-      NAV_ENSURE(f.delay.count() >= 0, "delayed fault delay must be >= 0");
-      break;
-    case Kind::kOff:
-    case Kind::kStuck:
-    case Kind::kGarbage:
-      break;
-  }
-}
 
 /// Applies one fault; returns the number of messages affected.
 std::size_t apply_one(std::vector<WireMessage>& msgs, const FaultSpec& f,
@@ -201,7 +176,7 @@ std::size_t apply_one(std::vector<WireMessage>& msgs, const FaultSpec& f,
 
     case Kind::kIntermittent:
       for (auto& m : msgs) {
-        if (inside(m, f) && uniform01(rng) < f.probability) {
+        if (inside(m, f) && unit_uniform(rng) < f.probability) {
           ++affected;
         } else {
           out.push_back(std::move(m));
@@ -211,7 +186,7 @@ std::size_t apply_one(std::vector<WireMessage>& msgs, const FaultSpec& f,
 
     case Kind::kChecksum:
       for (auto& m : msgs) {
-        if (inside(m, f) && uniform01(rng) < f.probability && !m.bytes.empty()) {
+        if (inside(m, f) && unit_uniform(rng) < f.probability && !m.bytes.empty()) {
           corrupt_checksum(m.bytes);
           m.trigger_tag.reset();
           ++affected;
@@ -222,9 +197,9 @@ std::size_t apply_one(std::vector<WireMessage>& msgs, const FaultSpec& f,
 
     case Kind::kTruncated:
       for (auto& m : msgs) {
-        if (inside(m, f) && uniform01(rng) < f.probability && m.bytes.size() >= 2) {
+        if (inside(m, f) && unit_uniform(rng) < f.probability && m.bytes.size() >= 2) {
           const std::size_t n = m.bytes.size();
-          const auto cut = static_cast<std::size_t>(uniform01(rng) * static_cast<double>(n - 1));
+          const auto cut = static_cast<std::size_t>(unit_uniform(rng) * static_cast<double>(n - 1));
           m.bytes.resize(1 + std::min(cut, n - 2));  // [1, n - 1]
           m.trigger_tag.reset();
           ++affected;
@@ -242,7 +217,7 @@ std::size_t apply_one(std::vector<WireMessage>& msgs, const FaultSpec& f,
         protocols::Bytes kept;
         kept.reserve(m.bytes.size());
         for (const auto byte : m.bytes) {
-          if (uniform01(rng) >= f.probability) kept.push_back(byte);
+          if (unit_uniform(rng) >= f.probability) kept.push_back(byte);
         }
         if (kept.size() == m.bytes.size()) {
           out.push_back(std::move(m));
@@ -277,10 +252,34 @@ const char* fault_name(FaultSpec::Kind k) {
   return "unknown";
 }
 
+void check_fault_spec(const FaultSpec& f) {
+  NAV_ENSURE(f.start <= f.end, "fault window end must not precede its start");
+  switch (f.kind) {
+    case Kind::kIntermittent:
+    case Kind::kChecksum:
+    case Kind::kTruncated:
+    case Kind::kByteLoss:
+      NAV_ENSURE(std::isfinite(f.probability) && f.probability >= 0.0 && f.probability <= 1.0,
+                 "fault probability must be in [0, 1]");
+      break;
+    case Kind::kSlow:
+      NAV_ENSURE(std::isfinite(f.factor) && f.factor > 0.0 && f.factor < 1e9,
+                 "slow fault factor must be finite and > 0");
+      break;
+    case Kind::kDelayed:
+      NAV_ENSURE(f.delay.count() >= 0, "delayed fault delay must be >= 0");
+      break;
+    case Kind::kOff:
+    case Kind::kStuck:
+    case Kind::kGarbage:
+      break;
+  }
+}
+
 std::vector<WireMessage> apply_faults(std::vector<WireMessage> messages,
                                       const std::vector<FaultSpec>& faults, std::uint64_t seed,
                                       std::vector<FaultRecord>* records) {
-  for (const auto& f : faults) check_spec(f);
+  for (const auto& f : faults) check_fault_spec(f);
   if (records != nullptr) records->clear();
   std::mt19937_64 rng(seed);
   for (const auto& f : faults) {

@@ -70,8 +70,6 @@ using Kind = FaultSpec::Kind;
 constexpr double kPaPerBar = 1e5;  ///< [Pa/bar]
 constexpr std::size_t kMaxRequestLength = 5;  ///< F73 / F95 [bytes]
 
-/// 53-bit uniform in [0, 1) from one raw engine output (as faults.cpp).
-double uniform01(std::mt19937_64& rng) { return static_cast<double>(rng() >> 11) * 0x1.0p-53; }
 
 bool inside(Duration t, const FaultSpec& f) { return f.start <= t && t < f.end; }
 
@@ -89,30 +87,6 @@ void check_config(const KellerConfig& c) {
   NAV_ENSURE(std::isfinite(c.temperature_degc) && finite_non_negative(c.temperature_std_degc),
              "Keller temperature must be finite, std >= 0");
   NAV_ENSURE(c.response_time.count() >= 0, "Keller response_time must be >= 0");
-}
-
-void check_fault(const FaultSpec& f) {
-  NAV_ENSURE(f.start <= f.end, "fault window end must not precede its start");
-  switch (f.kind) {
-    case Kind::kIntermittent:
-    case Kind::kChecksum:
-    case Kind::kTruncated:
-    case Kind::kByteLoss:
-      NAV_ENSURE(std::isfinite(f.probability) && f.probability >= 0.0 && f.probability <= 1.0,
-                 "fault probability must be in [0, 1]");
-      break;
-    case Kind::kSlow:
-      NAV_ENSURE(std::isfinite(f.factor) && f.factor > 0.0 && f.factor < 1e9,
-                 "slow fault factor must be finite and > 0");
-      break;
-    case Kind::kDelayed:
-      NAV_ENSURE(f.delay.count() >= 0, "delayed fault delay must be >= 0");
-      break;
-    case Kind::kOff:
-    case Kind::kStuck:
-    case Kind::kGarbage:
-      break;
-  }
 }
 
 kb::Exception exception_body(kb::Function f, kb::ExceptionCode code) {
@@ -134,7 +108,7 @@ KellerEmulator::KellerEmulator(const KellerConfig& cfg, const TruthTrajectory& t
       rng_(seed),
       fault_rng_(fault_seed) {
   check_config(cfg_);
-  for (const auto& f : faults_) check_fault(f);
+  for (const auto& f : faults_) check_fault_spec(f);
 }
 
 double KellerEmulator::pressure_bar(double depth_m) const {
@@ -229,21 +203,21 @@ bool KellerEmulator::apply_faults(WireMessage& m) {
         ++affected_[i];
         break;
       case Kind::kIntermittent:
-        if (uniform01(fault_rng_) < f.probability) {
+        if (unit_uniform(fault_rng_) < f.probability) {
           ++affected_[i];
           return false;
         }
         break;
       case Kind::kChecksum:
-        if (uniform01(fault_rng_) < f.probability && !m.bytes.empty()) {
+        if (unit_uniform(fault_rng_) < f.probability && !m.bytes.empty()) {
           m.bytes.back() ^= 0xFF;  // the CRC's low byte (sent last)
           ++affected_[i];
         }
         break;
       case Kind::kTruncated:
-        if (uniform01(fault_rng_) < f.probability && m.bytes.size() >= 2) {
+        if (unit_uniform(fault_rng_) < f.probability && m.bytes.size() >= 2) {
           const std::size_t n = m.bytes.size();
-          const auto cut = static_cast<std::size_t>(uniform01(fault_rng_) *
+          const auto cut = static_cast<std::size_t>(unit_uniform(fault_rng_) *
                                                     static_cast<double>(n - 1));
           m.bytes.resize(1 + std::min(cut, n - 2));  // [1, n - 1]
           ++affected_[i];
@@ -253,7 +227,7 @@ bool KellerEmulator::apply_faults(WireMessage& m) {
         protocols::Bytes kept;
         kept.reserve(m.bytes.size());
         for (const auto byte : m.bytes) {
-          if (uniform01(fault_rng_) >= f.probability) kept.push_back(byte);
+          if (unit_uniform(fault_rng_) >= f.probability) kept.push_back(byte);
         }
         if (kept.size() == m.bytes.size()) break;
         ++affected_[i];

@@ -75,10 +75,6 @@ constexpr int kIntegrity = 150;         ///< reported signal integrity (>= 100: 
 constexpr double kRssiAt1m_db = -35.0;  ///< RSSI at 1 m range [dB]
 constexpr int kMaxIterations = 50;      ///< fixed-point iterations of the travel time
 
-/// 53-bit uniform in [0, 1) from one raw engine output.
-double unit_uniform(std::mt19937_64& rng) {
-  return static_cast<double>(rng() >> 11) * 0x1.0p-53;
-}
 
 /// One-way travel time from the transceiver at p_t to the vehicle it reaches, for a ping
 /// leaving at t_i [s].

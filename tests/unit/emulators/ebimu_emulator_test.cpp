@@ -10,6 +10,8 @@
 #include "nav/emulators/ebimu_emulator.hpp"
 #include "nav/protocols/ebimu.hpp"
 
+#include "emulator_test_support.hpp"
+
 namespace nav::emulators {
 namespace {
 
@@ -18,24 +20,7 @@ using std::chrono::seconds;
 namespace ebimu = protocols::ebimu;
 
 /// Turning, rolling and pitching: yaw sweeps through +-180 deg.
-TruthTrajectory manoeuvring_truth() {
-  TrajectorySpec spec;
-  spec.start_yaw_rad = 2.8;
-  spec.max_accel_mps2 = 0.3;
-  Segment s1;
-  s1.length_m = 10.0;
-  s1.speed_mps = 1.2;
-  Segment s2;
-  s2.kind = Segment::Kind::kArc;
-  s2.radius_m = 5.0;
-  s2.angle_rad = 4.0;
-  s2.speed_mps = 1.2;
-  spec.segments = {s1, s2};
-  spec.motion.roll_amplitude_rad = 0.2;
-  spec.motion.pitch_amplitude_rad = 0.1;
-  spec.motion.period_s = 6.0;
-  return *TruthTrajectory::build(spec);
-}
+TruthTrajectory manoeuvring_truth() { return testing::manoeuvring_truth(2.8, 4.0, 0.2, 0.1); }
 
 ebimu::Sample decode(const WireMessage& msg, const EbimuConfig& cfg) {
   const ebimu::OutputConfig oc{

@@ -9,6 +9,8 @@
 #include "nav/emulators/device.hpp"
 #include "nav/protocols/microstrain_gx3.hpp"
 
+#include "emulator_test_support.hpp"
+
 namespace nav::emulators {
 namespace {
 
@@ -16,24 +18,7 @@ using std::chrono::milliseconds;
 using std::chrono::seconds;
 namespace gx3 = protocols::gx3;
 
-TruthTrajectory manoeuvring_truth() {
-  TrajectorySpec spec;
-  spec.start_yaw_rad = 0.7;
-  spec.max_accel_mps2 = 0.3;
-  Segment s1;
-  s1.length_m = 10.0;
-  s1.speed_mps = 1.2;
-  Segment s2;
-  s2.kind = Segment::Kind::kArc;
-  s2.radius_m = 5.0;
-  s2.angle_rad = 2.0;
-  s2.speed_mps = 1.2;
-  spec.segments = {s1, s2};
-  spec.motion.roll_amplitude_rad = 0.1;
-  spec.motion.pitch_amplitude_rad = 0.05;
-  spec.motion.period_s = 6.0;
-  return *TruthTrajectory::build(spec);
-}
+TruthTrajectory manoeuvring_truth() { return testing::manoeuvring_truth(0.7, 2.0, 0.1, 0.05); }
 
 gx3::AccelRateMag decode(const WireMessage& msg) {
   const auto r = gx3::parse(msg.bytes);

@@ -13,6 +13,8 @@
 #include "nav/emulators/measurement_faults.hpp"
 #include "nav/protocols/microstrain_gx3.hpp"
 
+#include "emulator_test_support.hpp"
+
 namespace nav::emulators {
 namespace {
 
@@ -23,31 +25,10 @@ namespace gx3 = protocols::gx3;
 constexpr double kG = units::kStandardGravity;
 
 /// At rest, level, heading 0.7 rad, for ever: f_b = (0, 0, -g), omega_b = 0.
-TruthTrajectory stationary_truth() {
-  TrajectorySpec spec;
-  spec.start_yaw_rad = 0.7;
-  return *TruthTrajectory::build(spec);
-}
+TruthTrajectory stationary_truth() { return testing::stationary_truth(0.7); }
 
 /// Straight, then an arc, with roll and pitch motion: every gyro axis moves.
-TruthTrajectory manoeuvring_truth() {
-  TrajectorySpec spec;
-  spec.start_yaw_rad = 0.7;
-  spec.max_accel_mps2 = 0.3;
-  Segment s1;
-  s1.length_m = 10.0;
-  s1.speed_mps = 1.2;
-  Segment s2;
-  s2.kind = Segment::Kind::kArc;
-  s2.radius_m = 5.0;
-  s2.angle_rad = 2.0;
-  s2.speed_mps = 1.2;
-  spec.segments = {s1, s2};
-  spec.motion.roll_amplitude_rad = 0.1;
-  spec.motion.pitch_amplitude_rad = 0.05;
-  spec.motion.period_s = 6.0;
-  return *TruthTrajectory::build(spec);
-}
+TruthTrajectory manoeuvring_truth() { return testing::manoeuvring_truth(0.7, 2.0, 0.1, 0.05); }
 
 gx3::AccelRateMag decode(const WireMessage& msg) {
   const auto r = gx3::parse(msg.bytes);

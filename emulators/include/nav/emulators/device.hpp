@@ -29,6 +29,10 @@ struct WireMessage {
 /// name mixed with the seed by splitmix64): stable across platforms and runs.
 std::uint64_t device_seed(std::uint64_t scenario_seed, std::string_view device_name);
 
+/// One uniform draw in [0, 1) from exactly one raw output of the engine (its top 53 bits):
+/// unlike std::uniform_real_distribution, the same with every standard library.
+double unit_uniform(std::mt19937_64& rng);
+
 /// One standard normal draw N(0, 1) from exactly two raw outputs of the engine (Box-Muller,
 /// cosine branch, no cached second value): unlike std::normal_distribution, whose algorithm
 /// is left to the library, the sequence is the same with every standard library.

@@ -40,6 +40,10 @@ struct FaultRecord {
 /// Name of a fault kind as written in scenarios and reports ("byte_loss", ...).
 const char* fault_name(FaultSpec::Kind k);
 
+/// Checks a fault's parameters by NAV_ENSURE: window end not before start; probability in
+/// [0, 1]; slow factor finite and > 0; delay >= 0.
+void check_fault_spec(const FaultSpec& f);
+
 /// Applies faults in order; messages stay ordered by t_send. records gets one entry per fault.
 std::vector<WireMessage> apply_faults(std::vector<WireMessage> messages,
                                       const std::vector<FaultSpec>& faults, std::uint64_t seed,
