@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "config.hpp"
 
+#include <array>
+#include <cmath>
 #include <cstdio>
 #include <exception>
 
@@ -14,12 +16,28 @@ std::string where(const std::string& path, const YAML::Mark& m) {
   return path + ":" + std::to_string(m.line + 1) + ":" + std::to_string(m.column + 1);
 }
 
+/// One NavdParams field by name (as estimator::ParamField for FilterParams).
+struct NavdField {
+  const char* name;
+  double NavdParams::*member;
+  const char* doc;
+  double lo, hi;  ///< valid range (lo, hi] [unit of the field]
+};
+
+constexpr std::array<NavdField, 1> kNavdFields = {{
+    {"modem_period_s", &NavdParams::modem_period_s,
+     "time between $PNVBPOS position reports on the acoustic modem (--modem), on the AHRS "
+     "timer, (0, 3600] [s]",
+     0.0, 3600.0},
+}};
+
 std::string known_keys() {
   std::string s;
   for (const auto& f : estimator::param_fields()) {
     if (!s.empty()) s += ", ";
     s += f.name;
   }
+  for (const auto& f : kNavdFields) s += std::string(", ") + f.name;
   return s;
 }
 
@@ -30,9 +48,34 @@ const estimator::ParamField* find_field(const std::string& key) {
   return nullptr;
 }
 
+const NavdField* find_navd_field(const std::string& key) {
+  for (const auto& f : kNavdFields) {
+    if (key == f.name) return &f;
+  }
+  return nullptr;
+}
+
+std::string format_g(double v) {
+  char value[32];
+  std::snprintf(value, sizeof value, "%g", v);
+  return value;
+}
+
 }  // namespace
 
-Result<estimator::FilterParams> load_config(const std::string& path) {
+Result<void> validate(const NavdParams& p) {
+  for (const NavdField& f : kNavdFields) {
+    const double v = p.*(f.member);
+    if (!std::isfinite(v) || v <= f.lo || v > f.hi) {
+      return fail(ErrorCode::kInvalidArgument, std::string(f.name) + " = " + format_g(v) +
+                                                   " is outside (" + format_g(f.lo) + ", " +
+                                                   format_g(f.hi) + "]");
+    }
+  }
+  return {};
+}
+
+Result<NavdConfig> load_config(const std::string& path) {
   YAML::Node root;
   try {
     root = YAML::LoadFile(path);
@@ -41,8 +84,8 @@ Result<estimator::FilterParams> load_config(const std::string& path) {
   } catch (const YAML::Exception& e) {
     return fail(ErrorCode::kParse, where(path, e.mark) + ": " + e.msg);
   }
-  estimator::FilterParams params;
-  if (root.IsNull()) return params;  // an empty file keeps every default
+  NavdConfig config;
+  if (root.IsNull()) return config;  // an empty file keeps every default
   if (!root.IsMap()) {
     return fail(ErrorCode::kParse, where(path, root.Mark()) +
                                        ": expected a map of parameter: value");
@@ -52,7 +95,8 @@ Result<estimator::FilterParams> load_config(const std::string& path) {
     const YAML::Node& value = kv.second;
     const std::string name = key.IsScalar() ? key.Scalar() : std::string("?");
     const estimator::ParamField* field = find_field(name);
-    if (field == nullptr) {
+    const NavdField* navd_field = find_navd_field(name);
+    if (field == nullptr && navd_field == nullptr) {
       return fail(ErrorCode::kParse, where(path, key.Mark()) + ": unknown key '" + name +
                                          "' (expected one of: " + known_keys() + ")");
     }
@@ -62,16 +106,22 @@ Result<estimator::FilterParams> load_config(const std::string& path) {
       v = value.as<double>();
     } catch (const YAML::Exception&) {
       return fail(ErrorCode::kParse, where(path, value.Mark()) + ": '" + name +
-                                         "' expects a number (" + field->doc + ")");
+                                         "' expects a number (" +
+                                         (field != nullptr ? field->doc : navd_field->doc) + ")");
     }
-    params.*(field->member) = v;
+    if (field != nullptr) {
+      config.filter.*(field->member) = v;
+    } else {
+      config.navd.*(navd_field->member) = v;
+    }
     // Defaults are valid and fields are independent, so a failure here is this value's.
-    if (auto ok = estimator::validate(params); !ok) {
+    auto ok = field != nullptr ? estimator::validate(config.filter) : validate(config.navd);
+    if (!ok) {
       return fail(ErrorCode::kInvalidArgument, where(path, value.Mark()) + ": " +
                                                    ok.error().detail);
     }
   }
-  return params;
+  return config;
 }
 
 std::string config_keys_help() {
@@ -81,6 +131,11 @@ std::string config_keys_help() {
     char value[32];
     std::snprintf(value, sizeof value, "%g", defaults.*(f.member));
     s += std::string("  ") + f.name + " (default " + value + "): " + f.doc + "\n";
+  }
+  const NavdParams navd_defaults;
+  for (const auto& f : kNavdFields) {
+    s += std::string("  ") + f.name + " (default " + format_g(navd_defaults.*(f.member)) +
+         "): " + f.doc + "\n";
   }
   return s;
 }

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
-// navd's optional YAML config file: a flat map of FilterParams fields by name, e.g.
+// navd's optional YAML config file: a flat map of FilterParams fields and of navd's own
+// parameters (NavdParams) by name, e.g.
 //
 //   attitude_kp_per_s: 0.8
 //   gps_horizontal_std_m: 1.5
@@ -15,8 +16,25 @@
 
 namespace nav::dut {
 
-/// Loads `path` over the defaults of FilterParams. The error detail is one line.
-Result<estimator::FilterParams> load_config(const std::string& path);
+/// navd's own tunables, beside the estimator's: they time navd's I/O, not the filter.
+struct NavdParams {
+  /// Time between two $PNVBPOS position reports on the acoustic modem (--modem), counted
+  /// on the AHRS timer, (0, 3600] [s].
+  double modem_period_s = 2.0;
+};
+
+/// Everything a config file sets.
+struct NavdConfig {
+  estimator::FilterParams filter;  ///< estimator parameters
+  NavdParams navd;                 ///< navd's own parameters
+};
+
+/// Checks NavdParams ranges; the error names the field and the value.
+Result<void> validate(const NavdParams& p);
+
+/// Loads `path` over the defaults of FilterParams and NavdParams. The error detail is one
+/// line.
+Result<NavdConfig> load_config(const std::string& path);
 
 /// One line per parameter, "name (default): description", for --help.
 std::string config_keys_help();

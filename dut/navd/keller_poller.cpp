@@ -1,14 +1,10 @@
 // SPDX-License-Identifier: MIT
 #include "keller_poller.hpp"
 
-#include <algorithm>
-#include <cmath>
 #include <type_traits>
 #include <variant>
 
-#include "nav/common/ensure.hpp"
 #include "nav/common/units.hpp"
-#include "nav/protocols/microstrain_gx3.hpp"
 
 namespace nav::dut {
 namespace {
@@ -44,12 +40,7 @@ double depth_from_p1_bar(double p1_bar, double atmosphere_pa, double density_kgp
 }
 
 KellerPoller::KellerPoller(double poll_period_s, std::uint8_t address)
-    : address_(address),
-      period_ticks_(static_cast<std::uint32_t>(
-          std::max(1.0, std::round(poll_period_s * protocols::gx3::kTicksPerSecond)))) {
-  NAV_ENSURE(std::isfinite(poll_period_s) && poll_period_s > 0.0 && poll_period_s <= 3600.0,
-             "poll period must be in (0, 3600] s");
-}
+    : address_(address), schedule_(poll_period_s) {}
 
 protocols::Bytes KellerPoller::request(keller::Function f, std::uint8_t data) {
   ++counts_.requests;
@@ -64,18 +55,15 @@ protocols::Bytes KellerPoller::request(keller::Function f, std::uint8_t data) {
 protocols::Bytes KellerPoller::start() { return request(keller::Function::kInit, 0); }
 
 protocols::Bytes KellerPoller::on_ahrs(std::uint32_t timer_ticks) {
-  if (!scheduled_) {
+  if (!schedule_.started()) {
     // The first sample is the origin: the first poll comes one period later, which also
     // leaves the start-up F48 a whole period for its answer.
-    scheduled_ = true;
-    last_poll_ticks_ = timer_ticks;
+    schedule_.mark(timer_ticks);
     return {};
   }
-  // Unsigned subtraction is modulo 2^32: a timer wrap between polls is harmless; a timer
-  // that went backwards looks like a long interval and polls at once.
-  const std::uint32_t elapsed = timer_ticks - last_poll_ticks_;
-  if (elapsed >= period_ticks_) {
-    last_poll_ticks_ = timer_ticks;
+  // Wrap-safe (ahrs_period.hpp): a timer that went backwards polls at once.
+  if (schedule_.elapsed(timer_ticks)) {
+    schedule_.mark(timer_ticks);
     init_since_poll_ = false;
     if (outstanding_) {
       ++counts_.timeouts;

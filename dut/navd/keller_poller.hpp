@@ -25,6 +25,7 @@
 #include <optional>
 #include <string>
 
+#include "ahrs_period.hpp"
 #include "nav/protocols/keller_bus.hpp"
 
 namespace nav::dut {
@@ -71,7 +72,7 @@ class KellerPoller {
   /// True while the device asked to be initialised and F48 has not been written since.
   bool init_pending() const { return init_pending_; }
   /// Poll period in AHRS timer ticks [1/62500 s].
-  std::uint32_t period_ticks() const { return period_ticks_; }
+  std::uint32_t period_ticks() const { return schedule_.period_ticks(); }
 
   /// "requests=N inits=N answers=N exceptions=N timeouts=N unexpected=N".
   std::string counters_text() const;
@@ -80,9 +81,7 @@ class KellerPoller {
   protocols::Bytes request(protocols::keller::Function f, std::uint8_t data);
 
   std::uint8_t address_;
-  std::uint32_t period_ticks_;
-  bool scheduled_ = false;          ///< an AHRS sample has started the schedule
-  std::uint32_t last_poll_ticks_ = 0;  ///< timer of the last poll (or of the origin)
+  AhrsPeriod schedule_;             ///< marked at the origin sample and at every poll
   std::optional<protocols::keller::Function> outstanding_;  ///< request awaiting its answer
   bool init_pending_ = false;       ///< exception 32 seen, F48 not yet written
   bool init_since_poll_ = false;    ///< an out-of-schedule F48 went out since the last poll

@@ -3,7 +3,8 @@
 // NMEA 0183 GPS (GGA/RMC; VTG/HDT/ZDA counted) and any number of extra aiding inputs
 // (--input: DVLs, USBL, EBIMU, NMEA decoded and counted, not yet fused; a Keller RS-485
 // depth sensor polled and fused) from serial ports, estimates, and writes one $PNVBSOL
-// solution per AHRS packet to an output serial port (docs/dut-contract.md).
+// solution per AHRS packet to an output serial port (docs/dut-contract.md). With --modem it
+// broadcasts its position as $PNVBPOS over an acoustic modem and logs the other vehicles'.
 //
 // Exit codes: 0 SIGTERM/SIGINT, output hang-up, or every input at EOF/hang-up;
 //             2 bad usage or config; 3 a port cannot be opened.
@@ -36,7 +37,8 @@ constexpr const char* kDescription =
     "(Kalman filter anchored at the first GPS fix), and writes one $PNVBSOL solution per AHRS "
     "packet. Extra aiding inputs (--input: DVL, USBL, EBIMU, NMEA) are decoded, counted and "
     "kept, not yet fused; a Keller RS-485 depth sensor (--input NAME=keller:PATH) is polled "
-    "and its depth fused.";
+    "and its depth fused. With --modem it shares its position with other vehicles over an "
+    "acoustic modem ($PNVBPOS) and counts and logs theirs (not fused).";
 
 std::string footer() {
   return "Output format: for every AHRS 0xCB packet navd writes exactly one line "
@@ -71,6 +73,20 @@ std::string footer() {
          "(depth_density_kgpm3 * 9.80665) is fused as the down position (std depth_std_m) once "
          "a GPS fix has anchored the local plane. Example: --input depth=keller:/dev/pts/6@9600."
          "\n\n"
+         "Acoustic modem: --modem PATH[@BAUD] (BAUD default 9600) is the serial line of a modem "
+         "in transparent mode, --vehicle-id N (0-255, default 0) this vehicle's id. Once the "
+         "position is valid navd writes one line "
+         "$PNVBPOS,<id>,<t_s>,<lat_deg>,<lon_deg>,<depth_m>,<std_m>*hh<CR><LF> at once and then "
+         "every modem_period_s of AHRS timer time (wrap-safe), each before the solution of the "
+         "AHRS packet that made it due: t_s is that packet's timer in seconds (3 decimals; it "
+         "wraps with the timer at 68719.476736 s), latitude/longitude in degrees (6 decimals), "
+         "depth in metres (2 decimals, -999.99..9999.99), std_m the horizontal 1-sigma per "
+         "axis in metres (1 decimal, rounded up, saturated at 999.9); at most 64 bytes, one "
+         "modem packet. A write the line does not take whole is dropped and counted, never "
+         "waited for. navd reads the modem line like its inputs, decodes the $PNVBPOS of other "
+         "vehicles (its own id is ignored), keeps the last one per sender, logs each on stderr "
+         "and does not fuse them; the summary adds modem{sent= received= rejected= "
+         "peers=[id:count,...] ...}.\n\n"
          "Exit codes: 0 on SIGTERM/SIGINT, output hang-up, or when every input reached "
          "EOF/hang-up; 2 bad usage or config; 3 a port cannot be opened. A one-line summary "
          "(every port's counters) goes to stderr on exit.\n\n"
@@ -113,6 +129,13 @@ int run(int argc, char** argv) {
                      " (decoded and counted, not fused, except keller; see below)")
       ->take_all()
       ->allow_extra_args(false);
+  std::string modem_spec;
+  const CLI::Option* modem_option = app.add_option("--modem", modem_spec,
+                 "acoustic modem line PATH[@BAUD] (BAUD default 9600): $PNVBPOS position "
+                 "reports out every modem_period_s, other vehicles' reports in (see below)");
+  app.add_option("--vehicle-id", opt.vehicle_id, "this vehicle's id in its $PNVBPOS reports")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 255));
   app.add_option("--output", opt.output_path, "tty the $PNVBSOL solutions are written to")
       ->required();
   app.add_option("--output-baud", opt.output_baud, "output line rate [bit/s]")
@@ -142,14 +165,23 @@ int run(int argc, char** argv) {
     return kExitUsage;
   }
 
-  nav::estimator::FilterParams params;
+  if (modem_option->count() > 0) {
+    auto spec = nav::dut::parse_modem_spec(modem_spec, bauds);
+    if (!spec) {
+      std::fprintf(stderr, "navd: %s\n", spec.error().detail.c_str());
+      return kExitUsage;
+    }
+    opt.modem = *spec;
+  }
+
+  nav::dut::NavdConfig config;
   if (!opt.config_path.empty()) {
     auto loaded = nav::dut::load_config(opt.config_path);
     if (!loaded) {
       std::fprintf(stderr, "navd: %s\n", loaded.error().detail.c_str());
       return kExitUsage;
     }
-    params = *loaded;
+    config = *loaded;
   }
 
   std::signal(SIGPIPE, SIG_IGN);
@@ -187,18 +219,28 @@ int run(int argc, char** argv) {
     extras.push_back(nav::dut::ExtraPort{spec, std::move(*p)});
     extras_text += " input " + nav::dut::to_string(spec);
   }
+  std::optional<nav::transport::SerialPort> modem;
+  std::string modem_text;
+  if (opt.modem) {
+    auto m = open_port(opt.modem->path, opt.modem->baud);
+    if (!m) return kExitPort;
+    modem.emplace(std::move(*m));
+    modem_text = " modem=" + opt.modem->path + "@" + std::to_string(opt.modem->baud) +
+                 " vehicle_id=" + std::to_string(opt.vehicle_id);
+  }
   auto output = open_port(opt.output_path, opt.output_baud);
   if (!output) return kExitPort;
 
   std::fprintf(stderr,
-               "navd: running: ahrs=%s@%d gps=%s%s output=%s@%d config=%s delay=%d ms\n",
+               "navd: running: ahrs=%s@%d gps=%s%s%s output=%s@%d config=%s delay=%d ms\n",
                opt.ahrs_path.c_str(), opt.ahrs_baud,
                gps ? (opt.gps_path + "@" + std::to_string(opt.gps_baud)).c_str() : "none",
-               extras_text.c_str(), opt.output_path.c_str(), opt.output_baud,
-               opt.config_path.empty() ? "defaults" : opt.config_path.c_str(), opt.delay_ms);
+               extras_text.c_str(), modem_text.c_str(), opt.output_path.c_str(),
+               opt.output_baud, opt.config_path.empty() ? "defaults" : opt.config_path.c_str(),
+               opt.delay_ms);
 
-  nav::dut::NavdApp navd(opt, params, std::move(*ahrs), std::move(gps), std::move(extras),
-                         std::move(*output), signal_fd);
+  nav::dut::NavdApp navd(opt, config, std::move(*ahrs), std::move(gps), std::move(extras),
+                         std::move(modem), std::move(*output), signal_fd);
   const std::string reason = navd.run();
   std::fprintf(stderr, "%s\n", navd.stats_line(reason).c_str());
   ::close(signal_fd);

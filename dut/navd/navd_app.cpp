@@ -80,9 +80,10 @@ std::string rejects_text(const RejectCounts& r) {
 
 }  // namespace
 
-NavdApp::NavdApp(const NavdOptions& options, const estimator::FilterParams& params,
+NavdApp::NavdApp(const NavdOptions& options, const NavdConfig& config,
                  transport::SerialPort ahrs, std::optional<transport::SerialPort> gps,
-                 std::vector<ExtraPort> extras, transport::SerialPort output, int signal_fd)
+                 std::vector<ExtraPort> extras, std::optional<transport::SerialPort> modem,
+                 transport::SerialPort output, int signal_fd)
     : options_(options),
       ahrs_(std::move(ahrs)),
       gps_(std::move(gps)),
@@ -92,8 +93,15 @@ NavdApp::NavdApp(const NavdOptions& options, const estimator::FilterParams& para
       ahrs_decoder_(&protocols::gx3::parse, protocols::gx3::kCmdAccelRateMag, kInputBufferBytes),
       gps_decoder_(&protocols::nmea::parse, static_cast<std::uint8_t>('$'), kInputBufferBytes),
       out_(output_, kOutputQueueBytes),
-      params_(params),
-      navigator_(params) {
+      params_(config.filter),
+      navigator_(config.filter) {
+  const estimator::FilterParams& params = config.filter;
+  if (modem) {
+    modem_ = std::move(modem);
+    modem_open_ = true;
+    modem_link_.emplace(static_cast<std::uint8_t>(options.vehicle_id),
+                        config.navd.modem_period_s, kInputBufferBytes);
+  }
   extras_.reserve(extras.size());
   for (auto& e : extras) {
     Extra x{std::move(e.port), AidingInput(e.spec.name, e.spec.protocol, kInputBufferBytes),
@@ -120,6 +128,35 @@ void NavdApp::handle_keller_answers() {
                                                params_.depth_density_kgpm3));
       }
     }
+  }
+}
+
+void NavdApp::write_modem(const std::string& sentence) {
+  if (sentence.empty()) return;
+  bool whole = false;
+  if (modem_open_) {
+    // One report every modem_period_s (~60 bytes): the line takes it unless nobody reads it
+    // (or a real modem stopped reading its serial side). Never wait: a short write garbles
+    // this report only (receivers drop it by checksum), and it counts as dropped.
+    const auto bytes = std::span(reinterpret_cast<const std::uint8_t*>(sentence.data()),
+                                 sentence.size());
+    const auto n = modem_->write_some(bytes);
+    if (!n) {
+      std::fprintf(stderr, "navd: modem closed: %s\n", n.error().detail.c_str());
+      modem_open_ = false;
+    } else {
+      whole = *n == sentence.size();
+    }
+  }
+  modem_link_->on_written(whole);
+}
+
+void NavdApp::handle_modem_bytes(protocols::ByteSpan bytes) {
+  for (const auto& p : modem_link_->feed(bytes)) {
+    std::fprintf(stderr,
+                 "navd: modem peer %u t=%.3f s lat=%.6f lon=%.6f depth=%.2f m std=%.1f m\n",
+                 static_cast<unsigned>(p.vehicle_id), p.t_s, p.lat_deg, p.lon_deg, p.depth_m,
+                 p.horizontal_std_m);
   }
 }
 
@@ -233,7 +270,10 @@ bool NavdApp::handle_ahrs(const protocols::gx3::AccelRateMag& m) {
     if (e.poller) write_request(e, e.poller->on_ahrs(m.timer_ticks));
   }
   navigator_.on_ahrs(to_sample(m));
-  const auto solution = to_solution(navigator_.solution(), m.timer_ticks, seq_++);
+  const estimator::NavSolution nav = navigator_.solution();
+  // The position report due at this sample, from its estimate, also before its solution.
+  if (modem_link_) write_modem(modem_link_->on_ahrs(m.timer_ticks, nav));
+  const auto solution = to_solution(nav, m.timer_ticks, seq_++);
   if (!wait_delay()) return false;
   if (auto ok = out_.push(protocols::navd::encode(solution)); !ok) {
     stop_reason_ = "output closed: " + ok.error().detail;
@@ -245,7 +285,7 @@ bool NavdApp::handle_ahrs(const protocols::gx3::AccelRateMag& m) {
 std::string NavdApp::run() {
   std::vector<protocols::gx3::AccelRateMag> ahrs_msgs;
   std::vector<protocols::nmea::Sentence> gps_msgs;
-  constexpr std::size_t kFixedFds = 4;
+  constexpr std::size_t kFixedFds = 5;
   std::vector<pollfd> fds;
   // Keller sensors are initialised as soon as navd runs (the bench answers a request made
   // during the DUT's start-up as at scenario time 0).
@@ -253,13 +293,14 @@ std::string NavdApp::run() {
     if (e.poller) write_request(e, e.poller->start());
   }
   while (stop_reason_.empty()) {
-    // Index 0 signals, 1 AHRS, 2 GPS, 3 output, 4.. the --input ports; a closed input is
-    // skipped (fd -1).
+    // Index 0 signals, 1 AHRS, 2 GPS, 3 output, 4 modem, 5.. the --input ports; a closed
+    // input is skipped (fd -1).
     fds.resize(kFixedFds + extras_.size());
     fds[0] = {signal_fd_, POLLIN, 0};
     fds[1] = {ahrs_open_ ? ahrs_.fd() : -1, POLLIN, 0};
     fds[2] = {gps_open_ ? gps_->fd() : -1, POLLIN, 0};
     fds[3] = {output_.fd(), static_cast<short>(out_.empty() ? 0 : POLLOUT), 0};
+    fds[4] = {modem_open_ ? modem_->fd() : -1, POLLIN, 0};
     for (std::size_t i = 0; i < extras_.size(); ++i) {
       fds[kFixedFds + i] = {extras_[i].open ? extras_[i].port.fd() : -1, POLLIN, 0};
     }
@@ -287,6 +328,10 @@ std::string NavdApp::run() {
       Extra& e = extras_[i];
       read_port(e.port, e.open, [&e](protocols::ByteSpan b) { e.input.feed(b); });
     }
+    // Peer reports are only counted, kept and logged: their order against AHRS is moot.
+    if ((fds[4].revents & kReadable) != 0) {
+      read_port(*modem_, modem_open_, [this](protocols::ByteSpan b) { handle_modem_bytes(b); });
+    }
 
     for (const auto& s : gps_msgs) handle_gps(s);
     handle_keller_answers();
@@ -305,7 +350,9 @@ std::string NavdApp::run() {
     }
     const bool extra_open =
         std::any_of(extras_.begin(), extras_.end(), [](const Extra& e) { return e.open; });
-    if (!ahrs_open_ && !gps_open_ && !extra_open) stop_reason_ = "all inputs closed";
+    if (!ahrs_open_ && !gps_open_ && !extra_open && !modem_open_) {
+      stop_reason_ = "all inputs closed";
+    }
   }
   (void)out_.flush();  // best effort, never blocking
   if (ahrs_open_) {
@@ -337,6 +384,10 @@ std::string NavdApp::stats_line(const std::string& reason) const {
       s += " poll{" + e.poller->counters_text() +
            " write_errors=" + std::to_string(e.write_errors) + "}";
     }
+  }
+  if (modem_link_) {
+    s += "; modem{" + modem_link_->counters_text() +
+         " id=" + std::to_string(modem_link_->vehicle_id()) + "}";
   }
   s += "; solutions written=" + std::to_string(out_.written()) +
        " dropped=" + std::to_string(out_.dropped()) +

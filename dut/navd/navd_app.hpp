@@ -5,11 +5,12 @@
 //                 ──NMEA GGA/RMC▶ [gps tty] ─┤
 //                 ──DVL/USBL/..─▶ [--input] ─┼─ poll() ─▶ wake:
 //   Keller (polled) ◀─requests─▶ [--input] ─┤    1. read every readable input until EAGAIN,
-//   SIGTERM/SIGINT ──────────────▶ [signalfd]┘       trigger port (AHRS) first, then GPS,
-//                                                    then the --input ports in command-line
-//                                                    order; feed each port's stream decoder
-//                                                    (--input messages are counted and the
-//                                                    last one kept as they are decoded)
+//   other vehicles ◀─$PNVBPOS──▶ [--modem] ─┤       trigger port (AHRS) first, then GPS,
+//   SIGTERM/SIGINT ──────────────▶ [signalfd]┘       then the --input ports in command-line
+//                                                    order, then the modem; feed each port's
+//                                                    stream decoder (--input messages and
+//                                                    peer reports are counted and the last
+//                                                    one kept as they are decoded)
 //                                                 2. every decoded GPS sentence → fix queue,
 //                                                    then every Keller answer → its poller
 //                                                    → depth queue
@@ -17,7 +18,8 @@
 //                                                    order: Keller requests due at its timer
 //                                                    → [keller tty], navigator step
 //                                                    (attitude, predict, queued fixes and
-//                                                    depths) → one $PNVBSOL
+//                                                    depths), the $PNVBPOS due at its timer
+//                                                    → [modem tty], one $PNVBSOL
 //                                                 4. output queue → [output tty] (never blocks)
 //
 // Why this order: the bench makes any aiding bytes (GPS, DVL, Keller answers, ...) that
@@ -26,8 +28,11 @@
 // trigger on every run (lockstep determinism). For the polled Keller the bench stamps a
 // request with the scenario time reached when it reads it, so a request is written before
 // the $PNVBSOL of the AHRS packet whose timer made it due: the bench has it when the solution
-// arrives, and the answer comes back before the next trigger it precedes. No wall clock
-// enters the estimate or the poll schedule; only --delay-ms sleeps, and only before writing.
+// arrives, and the answer comes back before the next trigger it precedes. The modem's
+// position reports follow the same rule (written before the solution of the sample whose
+// timer made them due, so the bench stamps them with that sample's time). No wall clock
+// enters the estimate, the poll or the report schedule; only --delay-ms sleeps, and only
+// before writing.
 #pragma once
 
 #include <cstdint>
@@ -39,7 +44,9 @@
 #include "nav/protocols/microstrain_gx3.hpp"
 #include "nav/protocols/nmea0183.hpp"
 #include "aiding_input.hpp"
+#include "config.hpp"
 #include "keller_poller.hpp"
+#include "modem_link.hpp"
 #include "nav/transport/serial_port.hpp"
 #include "output_queue.hpp"
 #include "stream_decoder.hpp"
@@ -57,6 +64,8 @@ struct NavdOptions {
   std::string config_path;          ///< YAML filter parameters; empty = defaults
   int delay_ms = 0;                 ///< sleep before writing each solution (test aid) [ms]
   std::vector<InputSpec> inputs;    ///< extra --input ports, in command-line order
+  std::optional<ModemSpec> modem;   ///< --modem: acoustic modem line; nullopt = none
+  int vehicle_id = 0;               ///< --vehicle-id: this vehicle's id in $PNVBPOS, 0..255
 };
 
 /// GPS sentence bookkeeping for the exit summary.
@@ -81,21 +90,22 @@ struct ExtraPort {
 /// The running DUT. Not movable: the output queue refers to the output port it owns.
 class NavdApp {
  public:
-  /// Takes the opened ports (extras in options.inputs order); signal_fd is a signalfd for
-  /// SIGTERM/SIGINT.
-  NavdApp(const NavdOptions& options, const estimator::FilterParams& params,
-          transport::SerialPort ahrs, std::optional<transport::SerialPort> gps,
-          std::vector<ExtraPort> extras, transport::SerialPort output, int signal_fd);
+  /// Takes the opened ports (extras in options.inputs order; modem when options.modem is
+  /// set); signal_fd is a signalfd for SIGTERM/SIGINT.
+  NavdApp(const NavdOptions& options, const NavdConfig& config, transport::SerialPort ahrs,
+          std::optional<transport::SerialPort> gps, std::vector<ExtraPort> extras,
+          std::optional<transport::SerialPort> modem, transport::SerialPort output,
+          int signal_fd);
   NavdApp(const NavdApp&) = delete;
   NavdApp& operator=(const NavdApp&) = delete;
 
   /// Runs until SIGTERM/SIGINT, hang-up of the output, or EOF/hang-up of every input
-  /// (AHRS, GPS and every --input).
+  /// (AHRS, GPS, every --input and the modem).
   /// Returns why it stopped (for the summary line).
   std::string run();
 
   /// One-line summary: packets per port (every --input by message type), rejects by kind,
-  /// solutions written.
+  /// modem reports sent and heard, solutions written.
   std::string stats_line(const std::string& reason) const;
 
   /// Bytes the output may hold back before dropping old solutions [bytes].
@@ -138,6 +148,13 @@ class NavdApp {
   /// Hands every decoded Keller answer to its poller; P1 values become queued depths.
   void handle_keller_answers();
   std::vector<Extra> extras_;  ///< in command-line order
+  /// Writes a $PNVBPOS to the modem without blocking (not taken whole: dropped, counted).
+  void write_modem(const std::string& sentence);
+  /// Decodes modem bytes; logs every peer report heard (one line each on stderr).
+  void handle_modem_bytes(protocols::ByteSpan bytes);
+  std::optional<transport::SerialPort> modem_;
+  bool modem_open_ = false;
+  std::optional<ModemLink> modem_link_;  ///< set with modem_
   OutputQueue out_;
   estimator::FilterParams params_;
   estimator::Navigator navigator_;
