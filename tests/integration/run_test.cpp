@@ -175,7 +175,7 @@ TEST(NavbenchRun, AllDevicesScenarioPassesInRealtime) {
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
   EXPECT_NE(r.out.find("VERDICT: PASS"), std::string::npos) << r.out;
   const auto s = summary(dir / "run");
-  ASSERT_EQ(s["devices"].size(), 9u);
+  ASSERT_EQ(s["devices"].size(), 13u);  // 10 on uuv, 3 on buddy
   for (const auto& d : s["devices"]) {
     EXPECT_GT(d["messages"].get<int>(), 0) << d["name"];
     EXPECT_EQ(d["bytes_dropped"].get<int>(), 0) << d["name"];
@@ -184,7 +184,8 @@ TEST(NavbenchRun, AllDevicesScenarioPassesInRealtime) {
   // Every emulated device is on the wire.
   const std::string tx = slurp(dir / "run" / "capture-tx.log");
   for (const char* port :
-       {"ahrs", "gps", "dvl_nq1", "dvl_pd0", "dvl_pd6", "dvl_a50", "imu", "usbl", "depth"}) {
+       {"ahrs", "gps", "dvl_nq1", "dvl_pd0", "dvl_pd6", "dvl_a50", "imu", "usbl", "depth",
+        "modem", "buddy.ahrs", "buddy.gps", "buddy.modem"}) {
     EXPECT_NE(tx.find(std::string(") ") + port + " "), std::string::npos) << port;
   }
   // The Keller answers navd's polls: the F48 at start, then F73 P1 at 5 Hz of AHRS time,
@@ -201,6 +202,13 @@ TEST(NavbenchRun, AllDevicesScenarioPassesInRealtime) {
   }
   // navd fuses the depth: the vertical check passes with a 0.5 m limit through the dive.
   EXPECT_TRUE((*check(s, "vertical_error"))["passed"].get<bool>());
+  // The two navds hear each other over the acoustic link: a report every 2 s each way.
+  ASSERT_EQ(s["acoustic_links"].size(), 2u);
+  for (const auto& l : s["acoustic_links"]) {
+    EXPECT_GE(l["packets_delivered"].get<int>(), 11) << l.dump();
+    EXPECT_EQ(l["packets_delivered"], l["packets_sent"]) << l.dump();
+  }
+  EXPECT_NE(s["peers"][0]["dut"]["status"].get<std::string>().find("alive"), std::string::npos);
 }
 
 TEST(NavbenchRun, AllDevicesLockstepRunsAreBitReproducible) {
@@ -220,6 +228,7 @@ TEST(NavbenchRun, AllDevicesLockstepRunsAreBitReproducible) {
   EXPECT_GE(requests.size(), 120u);
   EXPECT_EQ(requests, capture_times(slurp(dir / "b" / "capture-rx.log"), "depth"));
   EXPECT_EQ(summary(dir / "a")["dut"]["answers"], 2500);
+  EXPECT_EQ(summary(dir / "a")["peers"][0]["dut"]["answers"], 2500);
 }
 
 /// Capture lines "(<sec>.<nsec>) <port> <hex>" of one port: their times [s].
