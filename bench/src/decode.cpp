@@ -8,6 +8,7 @@
 #include "nav/bench/capture.hpp"
 #include "nav/common/units.hpp"
 #include "nav/protocols/microstrain_gx3.hpp"
+#include "nav/protocols/navd_modem.hpp"
 #include "nav/protocols/navd_solution.hpp"
 #include "nav/protocols/nmea0183.hpp"
 
@@ -97,6 +98,17 @@ json nmea_json(const protocols::nmea::Sentence& s) {
     j["pitch_deg"] = sol->pitch_deg;
     j["yaw_deg"] = sol->yaw_deg;
     j["status"] = sol->status;
+    return j;
+  }
+  if (s.talker + s.type == protocols::navd_modem::kAddress) {
+    auto pos = protocols::navd_modem::decode(s);
+    if (!pos) return json{{"type", "error"}, {"error", pos.error().detail}};
+    j["vehicle_id"] = pos->vehicle_id;
+    j["t_s"] = pos->t_s;
+    j["lat_deg"] = pos->lat_deg;
+    j["lon_deg"] = pos->lon_deg;
+    j["depth_m"] = pos->depth_m;
+    j["horizontal_std_m"] = pos->horizontal_std_m;
     return j;
   }
   if (s.type == "GGA") {
@@ -189,7 +201,8 @@ const std::vector<ProtocolDecoder>& protocol_decoders() {
        "MicroStrain 3DM-GX3-25 binary replies (0xCB accel/rate/mag, 0xCE Euler, 0xC4 continuous)",
        &parse_gx3, std::nullopt},
       {"nmea0183",
-       "NMEA 0183 sentences (GGA, RMC, VTG, HDT, ZDA decoded; others as raw fields; $PNVBSOL)",
+       "NMEA 0183 sentences (GGA, RMC, VTG, HDT, ZDA decoded; others as raw fields; $PNVBSOL, "
+       "$PNVBPOS)",
        &parse_nmea, static_cast<std::uint8_t>('#')},
       {"navquest-nq1", "LinkQuest NavQuest DVL $#NQ.RES lines", &detail::parse_navquest_nq1,
        std::nullopt},

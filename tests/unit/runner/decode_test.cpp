@@ -151,6 +151,25 @@ TEST(Decode, NmeaVtgHdtZdaDecodedIntoNamedFields) {
   expect_corruption_reported("nmea0183", text(hdt), 8, '5');  // checksum no longer matches
 }
 
+TEST(Decode, NavdModemPositionReports) {
+  // The worked example of docs/dut-contract.md, then one with a field out of range.
+  const std::string good = "$PNVBPOS,42,12.346,36.383300,127.360000,12.50,1.4*60\r\n";
+  const std::string body = "PNVBPOS,42,12.346,96.383300,127.360000,12.50,1.4";
+  char cs[4];
+  std::snprintf(cs, sizeof cs, "%02X", protocols::nmea::checksum(body));
+  const auto out = decode("nmea0183", text(good + "$" + body + "*" + cs + "\r\n"));
+  ASSERT_EQ(out.size(), 2u);
+  EXPECT_EQ(out[0]["type"], "NVBPOS");
+  EXPECT_EQ(out[0]["vehicle_id"], 42);
+  EXPECT_DOUBLE_EQ(out[0]["t_s"].get<double>(), 12.346);
+  EXPECT_DOUBLE_EQ(out[0]["lat_deg"].get<double>(), 36.3833);
+  EXPECT_DOUBLE_EQ(out[0]["lon_deg"].get<double>(), 127.36);
+  EXPECT_DOUBLE_EQ(out[0]["depth_m"].get<double>(), 12.5);
+  EXPECT_DOUBLE_EQ(out[0]["horizontal_std_m"].get<double>(), 1.4);
+  EXPECT_EQ(out[1]["type"], "error");  // latitude 96 deg
+  EXPECT_EQ(out[1]["offset"], good.size());
+}
+
 TEST(Decode, NavquestNq1InSi) {
   namespace nq1 = protocols::navquest_nq1;
   nq1::Nq1 m;
