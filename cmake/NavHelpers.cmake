@@ -20,3 +20,21 @@ function(nav_add_test)
   endif()
   gtest_discover_tests(${T_NAME} PROPERTIES ${props} DISCOVERY_TIMEOUT 60)
 endfunction()
+
+# nav_add_vcan_test(NAME n SOURCES s... LIBS l...): a GoogleTest binary that needs vcan0.
+# ctest runs the whole binary as ONE test (label vcan) through scripts/with-vcan, which brings
+# vcan0 up on the host or boots user-mode Linux for it (about 1.5 s per boot, hence one test
+# per binary rather than per case). RUN_SERIAL: the cases share vcan0. The harness's own
+# timeout (exit 124, with a message) comes before ctest's.
+function(nav_add_vcan_test)
+  cmake_parse_arguments(T "" "NAME" "SOURCES;LIBS" ${ARGN})
+  add_executable(${T_NAME} ${T_SOURCES})
+  target_link_libraries(${T_NAME} PRIVATE ${T_LIBS} GTest::gtest_main nav_warnings)
+  target_compile_definitions(${T_NAME} PRIVATE
+    NAV_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
+    NAV_BINARY_DIR="${CMAKE_RUNTIME_OUTPUT_DIRECTORY}")
+  add_test(NAME ${T_NAME}
+    COMMAND ${PROJECT_SOURCE_DIR}/scripts/with-vcan $<TARGET_FILE:${T_NAME}>)
+  set_tests_properties(${T_NAME} PROPERTIES LABELS vcan RUN_SERIAL TRUE TIMEOUT 300
+    ENVIRONMENT WITH_VCAN_TIMEOUT=280)
+endfunction()
