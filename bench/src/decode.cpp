@@ -218,6 +218,10 @@ const std::vector<ProtocolDecoder>& protocol_decoders() {
        &detail::parse_keller_bus, std::nullopt},
       {"evologics-usbl", "EvoLogics USBLLONG / USBLANGLES notifications",
        &detail::parse_evologics_usbl, std::nullopt},
+      {detail::kNmea2000,
+       "NMEA 2000 candump logs (-l lines or screen print): 127250, 127251, 127257, 128259, "
+       "128267, 129025, 129026, 129029 decoded, fast packets reassembled, other PGNs raw",
+       &detail::parse_nmea2000_line, static_cast<std::uint8_t>('#')},
   };
   return decoders;
 }
@@ -231,6 +235,8 @@ const ProtocolDecoder* find_decoder(const std::string& name) {
 
 DecodeCounts decode_stream(const ProtocolDecoder& d, protocols::ByteSpan bytes,
                            const std::function<void(const json&)>& emit) {
+  // A candump log is line-based text with state across lines (fast packets).
+  if (d.name == detail::kNmea2000) return detail::decode_nmea2000_log(bytes, emit);
   DecodeCounts counts;
   struct BadRun {
     std::size_t offset = 0, length = 0;

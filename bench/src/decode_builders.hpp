@@ -1,15 +1,18 @@
 // SPDX-License-Identifier: MIT
 // Private to nav_bench: the per-protocol parsers behind protocol_decoders() that turn one codec
 // message into JSON ("type" first, then fields named with their SI unit suffix; decode_stream
-// adds "offset"). decode_dvl.cpp holds the DVLs, decode_serial.cpp the other serial devices.
+// adds "offset"). decode_dvl.cpp holds the DVLs, decode_serial.cpp the other serial devices,
+// decode_can.cpp NMEA 2000 candump logs.
 #pragma once
 
+#include <functional>
 #include <initializer_list>
 #include <optional>
 #include <utility>
 
 #include <nlohmann/json.hpp>
 
+#include "nav/bench/decode.hpp"
 #include "nav/protocols/parse.hpp"
 
 namespace nav::bench::detail {
@@ -53,5 +56,17 @@ protocols::ParseResult<json> parse_ebimu(protocols::ByteSpan b);
 protocols::ParseResult<json> parse_keller_bus(protocols::ByteSpan b);
 /// EvoLogics USBLLONG / USBLANGLES notifications.
 protocols::ParseResult<json> parse_evologics_usbl(protocols::ByteSpan b);
+
+// decode_can.cpp
+/// Name of the candump-log decoder, which decode_stream() runs line by line.
+inline constexpr const char* kNmea2000 = "nmea2000";
+/// One candump line as one frame, without fast-packet reassembly (no state across calls):
+/// single-frame PGNs decoded, fast-packet frames raw. decode_stream() uses
+/// decode_nmea2000_log() instead.
+protocols::ParseResult<json> parse_nmea2000_line(protocols::ByteSpan b);
+/// A whole candump log, line by line, fast packets reassembled per (source, PGN); records carry
+/// "line" and "offset" (of the line) and the log's "t_s".
+DecodeCounts decode_nmea2000_log(protocols::ByteSpan bytes,
+                                 const std::function<void(const json&)>& emit);
 
 }  // namespace nav::bench::detail

@@ -81,7 +81,7 @@ int main(int argc, char** argv) {
       "decode", "Decode a byte stream: one JSON object per message, fields named with their "
                 "unit; bad bytes reported with their offset");
   dec->add_option("--protocol", protocol, described)->required()->check(CLI::IsMember(names));
-  dec->add_option("file", file, "Raw byte stream, or a navbench capture with --port")
+  dec->add_option("file", file, "Raw byte stream, a navbench capture with --port, or (nmea2000) a candump log")
       ->required()
       ->check(CLI::ExistingFile);
   dec->add_option("--port", port,

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <map>
 #include <numbers>
 
 #include "../protocols/fixtures.hpp"
@@ -364,6 +365,155 @@ TEST_F(DecodeCapture, RealRdiPd0CaptureDecodesEveryEnsemble) {
   ASSERT_EQ(out.size(), 51u);
   EXPECT_EQ(out[0]["ensemble_number"], 14);
   EXPECT_EQ(out[0]["bottom_track"]["range_m"].size(), 4u);
+}
+
+/// The 129029 fast packet of protocols.md section 5 (canboat candumpSample1, ID 0DF80500) as
+/// candump -l lines at 1 ms steps from t = 1362166096 s.
+std::string gnss_fast_packet_lines(std::size_t skip = 99) {
+  static const char* kFrames[] = {"002F01953D00CDC7", "012980C047E8B8C9", "02E50500A10EC43F",
+                                  "03D610F67AF22705", "040000000003FC00", "05FFFFFFFFDDF2FF",
+                                  "06FF00FFFFFFFFFF"};
+  std::string out;
+  for (std::size_t i = 0; i < 7; ++i) {
+    if (i == skip) continue;
+    out += "(1362166096.00" + std::to_string(i) + "000) can0 0DF80500#" + kFrames[i] + "\n";
+  }
+  return out;
+}
+
+TEST(Decode, Nmea2000CandumpLogWithFastPacketsUnknownsAndBadLines) {
+  const std::string log =
+      "# a comment line\n"
+      "(1502984866.421964) slcan0 09F112CC#FF725AFF7FFF7FFD\n"  // protocols.md section 7
+      + gnss_fast_packet_lines() +
+      "(1502984866.500000) slcan0 09FD0207#000000F504FAFFFF\n"  // 130306: not decoded here
+      "(1502984866.600000) slcan0 123#DEADBEEF R\n"             // not N2K: 11-bit ID
+      "(1502984866.700000) slcan0 09F112CC#FF72\n"              // 127250 payload too short
+      "(1502984866.8) slcan0 09F112CC#FF725AFF7FFF7FFD\n"      // 1 decimal
+      "(1502984866.900000) slcan0 123##1112233\n"               // CAN FD
+      "(1502984867.000000123) slcan0 15F50B23#FF29000000BC02FF\n";  // 128267, prio 5
+  DecodeCounts c;
+  const auto out = decode("nmea2000", text(log), &c);
+  EXPECT_EQ(c.messages, 5u);
+  EXPECT_EQ(c.errors, 3u);
+  ASSERT_EQ(out.size(), 8u);
+
+  EXPECT_EQ(out[0]["type"], "n2k_vessel_heading");
+  EXPECT_EQ(out[0].begin().key(), "type");
+  EXPECT_EQ(out[0]["pgn"], 127250);
+  EXPECT_EQ(out[0]["src"], 0xCC);
+  EXPECT_EQ(out[0]["prio"], 2);
+  EXPECT_TRUE(out[0]["sid"].is_null());
+  EXPECT_NEAR(out[0]["heading_rad"].get<double>(), 2.3154, 1e-9);
+  EXPECT_TRUE(out[0]["deviation_rad"].is_null());
+  EXPECT_TRUE(out[0]["variation_rad"].is_null());
+  EXPECT_EQ(out[0]["reference"], "magnetic");
+  EXPECT_DOUBLE_EQ(out[0]["t_s"].get<double>(), 1502984866.421964);
+  EXPECT_EQ(out[0]["line"], 2);
+  EXPECT_EQ(out[0]["offset"], 17);
+
+  EXPECT_EQ(out[1]["type"], "n2k_gnss_position");
+  EXPECT_EQ(out[1]["pgn"], 129029);
+  EXPECT_EQ(out[1]["prio"], 3);
+  EXPECT_EQ(out[1]["src"], 0);
+  EXPECT_EQ(out[1]["line"], 9);  // the frame that completed it
+  EXPECT_DOUBLE_EQ(out[1]["t_s"].get<double>(), 1362166096.006);
+  EXPECT_EQ(out[1]["date"], "2013-03-01");
+  EXPECT_DOUBLE_EQ(out[1]["time_of_day_s"].get<double>(), 70096.0);
+  EXPECT_NEAR(out[1]["lat_deg"].get<double>(), 42.4967536, 0.5e-7);
+  EXPECT_NEAR(out[1]["lon_deg"].get<double>(), -71.5836771, 0.5e-7);
+  EXPECT_NEAR(out[1]["alt_m"].get<double>(), 86.504, 1e-3);
+  EXPECT_NEAR(out[1]["geoid_sep_m"].get<double>(), -33.63, 1e-12);
+  EXPECT_EQ(out[1]["gnss_type"], 3);
+
+  EXPECT_EQ(out[2]["type"], "n2k_raw");
+  EXPECT_EQ(out[2]["pgn"], 130306);
+  EXPECT_EQ(out[2]["src"], 7);
+  EXPECT_EQ(out[2]["data"], "000000F504FAFFFF");
+
+  EXPECT_EQ(out[3]["type"], "can_frame");
+  EXPECT_EQ(out[3]["id"], 0x123);
+  EXPECT_EQ(out[3]["extended"], false);
+  EXPECT_EQ(out[3]["data"], "DEADBEEF");
+
+  EXPECT_EQ(out[4]["type"], "error");
+  EXPECT_EQ(out[4]["line"], 12);
+  EXPECT_NE(out[4]["error"].get<std::string>().find("PGN 127250"), std::string::npos);
+  EXPECT_EQ(out[5]["type"], "error");
+  EXPECT_EQ(out[5]["line"], 13);
+  EXPECT_EQ(out[5]["error"], "line 13: column 13: timestamp needs 6 or 9 decimals, found 1");
+  EXPECT_EQ(out[6]["type"], "error");
+  EXPECT_EQ(out[6]["line"], 14);
+  EXPECT_NE(out[6]["error"].get<std::string>().find("CAN FD"), std::string::npos);
+
+  EXPECT_EQ(out[7]["type"], "n2k_water_depth");
+  EXPECT_EQ(out[7]["prio"], 5);
+  EXPECT_EQ(out[7]["src"], 0x23);
+  EXPECT_TRUE(out[7]["sid"].is_null());
+  EXPECT_NEAR(out[7]["depth_m"].get<double>(), 0.41, 1e-12);
+  EXPECT_NEAR(out[7]["offset_m"].get<double>(), 0.700, 1e-12);
+  EXPECT_TRUE(out[7]["max_range_m"].is_null());
+  EXPECT_DOUBLE_EQ(out[7]["t_s"].get<double>(), 1502984867.000000123);
+}
+
+TEST(Decode, Nmea2000FastPacketLostFrameIsReportedNotMisassembled) {
+  // Frame 3 lost, then a whole message; then a message cut off by the end of the log.
+  const std::string log = gnss_fast_packet_lines(3) + gnss_fast_packet_lines() +
+                          gnss_fast_packet_lines().substr(0, 2 * 51);  // frames 0 and 1
+  DecodeCounts c;
+  const auto out = decode("nmea2000", text(log), &c);
+  ASSERT_EQ(out.size(), 5u);
+  EXPECT_EQ(out[0]["type"], "error");  // the gap breaks the first message at its frame 4
+  EXPECT_EQ(out[0]["line"], 1);
+  EXPECT_NE(out[0]["error"].get<std::string>().find("discarded at line 4"), std::string::npos)
+      << out[0]["error"];
+  EXPECT_EQ(out[1]["type"], "error");  // frames 5 and 6 have no message any more
+  EXPECT_EQ(out[1]["line"], 5);
+  EXPECT_EQ(out[2]["line"], 6);
+  EXPECT_EQ(out[3]["type"], "n2k_gnss_position");
+  EXPECT_EQ(out[3]["line"], 13);
+  EXPECT_EQ(out[4]["type"], "error");
+  EXPECT_EQ(out[4]["line"], 14);
+  EXPECT_NE(out[4]["error"].get<std::string>().find("incomplete at end of input"),
+            std::string::npos);
+  EXPECT_EQ(c.messages, 1u);
+  EXPECT_EQ(c.errors, 4u);
+}
+
+TEST_F(DecodeCapture, RealNmea2000CaptureDecodesEveryFrame) {
+  const auto bytes =
+      protocols::test_support::read_bytes(dir() / "nmea2000" / "candumpSample2.txt");
+  ASSERT_FALSE(bytes.empty());
+  DecodeCounts c;
+  const auto out = decode("nmea2000", bytes, &c);
+  EXPECT_EQ(c.errors, 0u);
+  EXPECT_EQ(c.messages, 267u);  // 402 frames; 35 + 110 of them are 5 + 5 fast packets
+  std::map<std::string, std::size_t> types;
+  std::map<int, std::size_t> raw_pgns;
+  for (const auto& j : out) {
+    ++types[j["type"].get<std::string>()];
+    if (j["type"] == "n2k_raw") ++raw_pgns[j["pgn"].get<int>()];
+    EXPECT_TRUE(j["t_s"].is_null());  // screen print without timestamps
+  }
+  const std::map<std::string, std::size_t> want = {
+      {"n2k_vessel_heading", 46}, {"n2k_rate_of_turn", 46},  {"n2k_attitude", 5},
+      {"n2k_position_rapid", 46}, {"n2k_cog_sog_rapid", 46}, {"n2k_gnss_position", 5},
+      {"n2k_raw", 73}};
+  EXPECT_EQ(types, want);
+  const std::map<int, std::size_t> want_raw = {
+      {126992, 5}, {127258, 13}, {129539, 5}, {129540, 5}, {130306, 45}};
+  EXPECT_EQ(raw_pgns, want_raw);
+  // 129540 reassembled: 147 bytes.
+  for (const auto& j : out) {
+    if (j["type"] == "n2k_raw" && j["pgn"] == 129540) {
+      EXPECT_EQ(j["data"].get<std::string>().size(), 2u * 147u);
+    }
+  }
+  EXPECT_EQ(out[2]["type"], "n2k_vessel_heading");
+  EXPECT_EQ(out[2]["line"], 9);
+  EXPECT_EQ(out[2]["src"], 128);
+  EXPECT_NEAR(out[2]["heading_rad"].get<double>(), 3.9324, 1e-9);
+  EXPECT_NEAR(out[2]["variation_rad"].get<double>(), -0.2570, 1e-9);
 }
 
 TEST(Decode, BytesOfOnePortFromACapture) {
