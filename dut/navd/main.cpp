@@ -5,9 +5,12 @@
 // depth sensor polled and fused) from serial ports, estimates, and writes one $PNVBSOL
 // solution per AHRS packet to an output serial port (docs/dut-contract.md). With --modem it
 // broadcasts its position as $PNVBPOS over an acoustic modem and logs the other vehicles'.
+// With --can it reads one SocketCAN bus (NMEA 2000, and the frames of the vehicle's DBC given
+// with --dbc): decoded and counted, not fused.
 //
 // Exit codes: 0 SIGTERM/SIGINT, output hang-up, or every input at EOF/hang-up;
-//             2 bad usage or config; 3 a port cannot be opened.
+//             2 bad usage or config (a DBC that cannot be loaded or disagrees with the code);
+//             3 a port or the CAN interface cannot be opened.
 #include <sys/signalfd.h>
 #include <unistd.h>
 
@@ -21,6 +24,10 @@
 
 #include <CLI/CLI.hpp>
 
+#include "nav/protocols/dbc.hpp"
+#include "nav/transport/can_socket.hpp"
+
+#include "can_input.hpp"
 #include "config.hpp"
 #include "navd_app.hpp"
 
@@ -38,7 +45,10 @@ constexpr const char* kDescription =
     "packet. Extra aiding inputs (--input: DVL, USBL, EBIMU, NMEA) are decoded, counted and "
     "kept, not yet fused; a Keller RS-485 depth sensor (--input NAME=keller:PATH) is polled "
     "and its depth fused. With --modem it shares its position with other vehicles over an "
-    "acoustic modem ($PNVBPOS) and counts and logs theirs (not fused).";
+    "acoustic modem ($PNVBPOS) and counts and logs theirs (not fused). With --can it reads one "
+    "SocketCAN bus: NMEA 2000 PGNs 127250, 127251, 127257, 128259, 128267, 129025, 129026 and "
+    "129029 (fast packet), and the vehicle's frames described by --dbc (wheel encoders), "
+    "decoded and counted, not fused.";
 
 std::string footer() {
   return "Output format: for every AHRS 0xCB packet navd writes exactly one line "
@@ -87,8 +97,18 @@ std::string footer() {
          "vehicles (its own id is ignored), keeps the last one per sender, logs each on stderr "
          "and does not fuse them; the summary adds modem{sent= received= rejected= "
          "peers=[id:count,...] ...}.\n\n"
+         "CAN bus: --can IFACE (e.g. vcan0, can0) opens a raw SocketCAN socket on IFACE, read in "
+         "the same loop as the serial inputs (before the AHRS packets of the same wake-up). "
+         "29-bit frames are NMEA 2000: the eight PGNs above are decoded (129029 fast packets "
+         "reassembled per source), other PGNs counted as other. --dbc FILE (optional) is the "
+         "vehicle's DBC: frames whose identifier it defines are decoded by it and counted by "
+         "message name; WheelEncoderLeft/WheelEncoderRight must agree with navd's wheel encoder "
+         "codec (else exit 2). Other frames (11-bit ids not in the DBC, RTR) are rejected and "
+         "counted. Nothing from CAN is fused yet; navd keeps the last message of each kind. The "
+         "summary adds can{iface= frames= n2k{PGN=..,other=} dbc{Message=..} rejects{...}}.\n\n"
          "Exit codes: 0 on SIGTERM/SIGINT, output hang-up, or when every input reached "
-         "EOF/hang-up; 2 bad usage or config; 3 a port cannot be opened. A one-line summary "
+         "EOF/hang-up; 2 bad usage or config (also a --dbc that cannot be loaded or disagrees "
+         "with navd); 3 a port or the CAN interface cannot be opened. A one-line summary "
          "(every port's counters) goes to stderr on exit.\n\n"
          "Config keys (--config, a YAML map key: value, SI units):\n" +
          nav::dut::config_keys_help();
@@ -136,6 +156,14 @@ int run(int argc, char** argv) {
   app.add_option("--vehicle-id", opt.vehicle_id, "this vehicle's id in its $PNVBPOS reports")
       ->capture_default_str()
       ->check(CLI::Range(0, 255));
+  app.add_option("--can", opt.can_iface,
+                 "SocketCAN interface (e.g. vcan0, can0) carrying NMEA 2000 and the --dbc "
+                 "frames; decoded and counted, not fused");
+  const CLI::Option* dbc_option =
+      app.add_option("--dbc", opt.dbc_path,
+                     "the vehicle's DBC file describing its non-NMEA 2000 frames (e.g. the "
+                     "wheel encoders of fixtures/crawler.dbc); needs --can")
+          ->check(CLI::ExistingFile);
   app.add_option("--output", opt.output_path, "tty the $PNVBSOL solutions are written to")
       ->required();
   app.add_option("--output-baud", opt.output_baud, "output line rate [bit/s]")
@@ -172,6 +200,31 @@ int run(int argc, char** argv) {
       return kExitUsage;
     }
     opt.modem = *spec;
+  }
+
+  std::optional<nav::dut::CanInput> can_input;
+  if (dbc_option->count() > 0 && opt.can_iface.empty()) {
+    std::fprintf(stderr, "navd: --dbc needs --can (see navd --help)\n");
+    return kExitUsage;
+  }
+  if (!opt.can_iface.empty()) {
+    if (opt.dbc_path.empty()) {
+      can_input.emplace();
+    } else {
+      auto db = nav::protocols::dbc::load(opt.dbc_path);
+      if (!db) {
+        std::fprintf(stderr, "navd: --dbc %s: %s\n", opt.dbc_path.c_str(),
+                     db.error().detail.c_str());
+        return kExitUsage;
+      }
+      auto in = nav::dut::CanInput::with_dbc(std::move(*db));
+      if (!in) {
+        std::fprintf(stderr, "navd: --dbc %s: %s\n", opt.dbc_path.c_str(),
+                     in.error().detail.c_str());
+        return kExitUsage;
+      }
+      can_input.emplace(std::move(*in));
+    }
   }
 
   nav::dut::NavdConfig config;
@@ -228,19 +281,33 @@ int run(int argc, char** argv) {
     modem_text = " modem=" + opt.modem->path + "@" + std::to_string(opt.modem->baud) +
                  " vehicle_id=" + std::to_string(opt.vehicle_id);
   }
+  std::optional<nav::dut::CanPort> can;
+  std::string can_text;
+  if (can_input) {
+    // Receive timestamps are not used: nothing from CAN is fused yet.
+    nav::transport::CanSocketOptions can_options;
+    can_options.timestamps = false;
+    auto socket = nav::transport::CanSocket::open(opt.can_iface, can_options);
+    if (!socket) {
+      std::fprintf(stderr, "navd: %s\n", socket.error().detail.c_str());
+      return kExitPort;
+    }
+    can.emplace(nav::dut::CanPort{std::move(*socket), std::move(*can_input)});
+    can_text = " can=" + opt.can_iface + " dbc=" + (opt.dbc_path.empty() ? "none" : opt.dbc_path);
+  }
   auto output = open_port(opt.output_path, opt.output_baud);
   if (!output) return kExitPort;
 
   std::fprintf(stderr,
-               "navd: running: ahrs=%s@%d gps=%s%s%s output=%s@%d config=%s delay=%d ms\n",
+               "navd: running: ahrs=%s@%d gps=%s%s%s%s output=%s@%d config=%s delay=%d ms\n",
                opt.ahrs_path.c_str(), opt.ahrs_baud,
                gps ? (opt.gps_path + "@" + std::to_string(opt.gps_baud)).c_str() : "none",
-               extras_text.c_str(), modem_text.c_str(), opt.output_path.c_str(),
+               extras_text.c_str(), modem_text.c_str(), can_text.c_str(), opt.output_path.c_str(),
                opt.output_baud, opt.config_path.empty() ? "defaults" : opt.config_path.c_str(),
                opt.delay_ms);
 
   nav::dut::NavdApp navd(opt, config, std::move(*ahrs), std::move(gps), std::move(extras),
-                         std::move(modem), std::move(*output), signal_fd);
+                         std::move(modem), std::move(can), std::move(*output), signal_fd);
   const std::string reason = navd.run();
   std::fprintf(stderr, "%s\n", navd.stats_line(reason).c_str());
   ::close(signal_fd);

@@ -72,6 +72,17 @@ protocols::navd::Solution to_solution(const estimator::NavSolution& nav, std::ui
   return s;
 }
 
+/// The codec's view of a received SocketCAN frame.
+protocols::can::Frame to_can_frame(const transport::CanFrame& f) {
+  protocols::can::Frame out;
+  out.id = f.id;
+  out.extended = f.extended;
+  out.rtr = f.rtr;
+  out.dlc = f.dlc;
+  out.data = f.data;
+  return out;
+}
+
 std::string rejects_text(const RejectCounts& r) {
   return "checksum=" + std::to_string(r.checksum) + " framing=" + std::to_string(r.framing) +
          " sync_bytes=" + std::to_string(r.sync_bytes) +
@@ -83,7 +94,7 @@ std::string rejects_text(const RejectCounts& r) {
 NavdApp::NavdApp(const NavdOptions& options, const NavdConfig& config,
                  transport::SerialPort ahrs, std::optional<transport::SerialPort> gps,
                  std::vector<ExtraPort> extras, std::optional<transport::SerialPort> modem,
-                 transport::SerialPort output, int signal_fd)
+                 std::optional<CanPort> can, transport::SerialPort output, int signal_fd)
     : options_(options),
       ahrs_(std::move(ahrs)),
       gps_(std::move(gps)),
@@ -94,7 +105,9 @@ NavdApp::NavdApp(const NavdOptions& options, const NavdConfig& config,
       gps_decoder_(&protocols::nmea::parse, static_cast<std::uint8_t>('$'), kInputBufferBytes),
       out_(output_, kOutputQueueBytes),
       params_(config.filter),
-      navigator_(config.filter) {
+      navigator_(config.filter),
+      can_(std::move(can)),
+      can_open_(can_.has_value()) {
   const estimator::FilterParams& params = config.filter;
   if (modem) {
     modem_ = std::move(modem);
@@ -157,6 +170,19 @@ void NavdApp::handle_modem_bytes(protocols::ByteSpan bytes) {
                  "navd: modem peer %u t=%.3f s lat=%.6f lon=%.6f depth=%.2f m std=%.1f m\n",
                  static_cast<unsigned>(p.vehicle_id), p.t_s, p.lat_deg, p.lon_deg, p.depth_m,
                  p.horizontal_std_m);
+  }
+}
+
+void NavdApp::read_can() {
+  for (std::size_t n = 0; can_open_ && n < kCanFramesPerWake; ++n) {
+    auto r = can_->socket.receive();
+    if (!r) {
+      std::fprintf(stderr, "navd: CAN closed: %s\n", r.error().detail.c_str());
+      can_open_ = false;
+      break;
+    }
+    if (!*r) break;  // nothing waiting
+    can_->input.feed(to_can_frame((*r)->frame));
   }
 }
 
@@ -285,7 +311,7 @@ bool NavdApp::handle_ahrs(const protocols::gx3::AccelRateMag& m) {
 std::string NavdApp::run() {
   std::vector<protocols::gx3::AccelRateMag> ahrs_msgs;
   std::vector<protocols::nmea::Sentence> gps_msgs;
-  constexpr std::size_t kFixedFds = 5;
+  constexpr std::size_t kFixedFds = 6;
   std::vector<pollfd> fds;
   // Keller sensors are initialised as soon as navd runs (the bench answers a request made
   // during the DUT's start-up as at scenario time 0).
@@ -293,14 +319,15 @@ std::string NavdApp::run() {
     if (e.poller) write_request(e, e.poller->start());
   }
   while (stop_reason_.empty()) {
-    // Index 0 signals, 1 AHRS, 2 GPS, 3 output, 4 modem, 5.. the --input ports; a closed
-    // input is skipped (fd -1).
+    // Index 0 signals, 1 AHRS, 2 GPS, 3 output, 4 modem, 5 CAN, 6.. the --input ports; a
+    // closed input is skipped (fd -1).
     fds.resize(kFixedFds + extras_.size());
     fds[0] = {signal_fd_, POLLIN, 0};
     fds[1] = {ahrs_open_ ? ahrs_.fd() : -1, POLLIN, 0};
     fds[2] = {gps_open_ ? gps_->fd() : -1, POLLIN, 0};
     fds[3] = {output_.fd(), static_cast<short>(out_.empty() ? 0 : POLLOUT), 0};
     fds[4] = {modem_open_ ? modem_->fd() : -1, POLLIN, 0};
+    fds[5] = {can_open_ ? can_->socket.fd() : -1, POLLIN, 0};
     for (std::size_t i = 0; i < extras_.size(); ++i) {
       fds[kFixedFds + i] = {extras_[i].open ? extras_[i].port.fd() : -1, POLLIN, 0};
     }
@@ -328,6 +355,8 @@ std::string NavdApp::run() {
       Extra& e = extras_[i];
       read_port(e.port, e.open, [&e](protocols::ByteSpan b) { e.input.feed(b); });
     }
+    // CAN frames are decoded and counted as they are read (not fused): before any AHRS packet.
+    if ((fds[5].revents & kReadable) != 0) read_can();
     // Peer reports are only counted, kept and logged: their order against AHRS is moot.
     if ((fds[4].revents & kReadable) != 0) {
       read_port(*modem_, modem_open_, [this](protocols::ByteSpan b) { handle_modem_bytes(b); });
@@ -350,7 +379,7 @@ std::string NavdApp::run() {
     }
     const bool extra_open =
         std::any_of(extras_.begin(), extras_.end(), [](const Extra& e) { return e.open; });
-    if (!ahrs_open_ && !gps_open_ && !extra_open && !modem_open_) {
+    if (!ahrs_open_ && !gps_open_ && !extra_open && !modem_open_ && !can_open_) {
       stop_reason_ = "all inputs closed";
     }
   }
@@ -388,6 +417,9 @@ std::string NavdApp::stats_line(const std::string& reason) const {
   if (modem_link_) {
     s += "; modem{" + modem_link_->counters_text() +
          " id=" + std::to_string(modem_link_->vehicle_id()) + "}";
+  }
+  if (can_) {
+    s += "; can{iface=" + can_->socket.ifname() + " " + can_->input.counters_text() + "}";
   }
   s += "; solutions written=" + std::to_string(out_.written()) +
        " dropped=" + std::to_string(out_.dropped()) +

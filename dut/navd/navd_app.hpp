@@ -6,11 +6,12 @@
 //                 ──DVL/USBL/..─▶ [--input] ─┼─ poll() ─▶ wake:
 //   Keller (polled) ◀─requests─▶ [--input] ─┤    1. read every readable input until EAGAIN,
 //   other vehicles ◀─$PNVBPOS──▶ [--modem] ─┤       trigger port (AHRS) first, then GPS,
-//   SIGTERM/SIGINT ──────────────▶ [signalfd]┘       then the --input ports in command-line
-//                                                    order, then the modem; feed each port's
-//                                                    stream decoder (--input messages and
-//                                                    peer reports are counted and the last
-//                                                    one kept as they are decoded)
+//   N2K, wheel encoders ─frames─▶ [--can]   ─┤       then the --input ports in command-line
+//   SIGTERM/SIGINT ──────────────▶ [signalfd]┘       order, then the CAN socket, then the
+//                                                    modem; feed each port's stream decoder
+//                                                    (--input messages, CAN frames and peer
+//                                                    reports are counted and the last one
+//                                                    kept as they are decoded)
 //                                                 2. every decoded GPS sentence → fix queue,
 //                                                    then every Keller answer → its poller
 //                                                    → depth queue
@@ -25,7 +26,8 @@
 // Why this order: the bench makes any aiding bytes (GPS, DVL, Keller answers, ...) that
 // precede a trigger readable before it writes the trigger, so reading the trigger port first
 // and handling every aiding message before AHRS within a wake applies every fix at the same
-// trigger on every run (lockstep determinism). For the polled Keller the bench stamps a
+// trigger on every run (lockstep determinism). CAN frames are read like the --input ports,
+// before the AHRS packets of the same wake, though nothing from CAN is fused yet. For the polled Keller the bench stamps a
 // request with the scenario time reached when it reads it, so a request is written before
 // the $PNVBSOL of the AHRS packet whose timer made it due: the bench has it when the solution
 // arrives, and the answer comes back before the next trigger it precedes. The modem's
@@ -44,9 +46,11 @@
 #include "nav/protocols/microstrain_gx3.hpp"
 #include "nav/protocols/nmea0183.hpp"
 #include "aiding_input.hpp"
+#include "can_input.hpp"
 #include "config.hpp"
 #include "keller_poller.hpp"
 #include "modem_link.hpp"
+#include "nav/transport/can_socket.hpp"
 #include "nav/transport/serial_port.hpp"
 #include "output_queue.hpp"
 #include "stream_decoder.hpp"
@@ -66,6 +70,8 @@ struct NavdOptions {
   std::vector<InputSpec> inputs;    ///< extra --input ports, in command-line order
   std::optional<ModemSpec> modem;   ///< --modem: acoustic modem line; nullopt = none
   int vehicle_id = 0;               ///< --vehicle-id: this vehicle's id in $PNVBPOS, 0..255
+  std::string can_iface;            ///< --can: SocketCAN interface (vcan0, can0); empty = none
+  std::string dbc_path;             ///< --dbc: the vehicle's DBC for non-N2K frames; empty = none
 };
 
 /// GPS sentence bookkeeping for the exit summary.
@@ -87,20 +93,26 @@ struct ExtraPort {
   transport::SerialPort port;  ///< the opened tty
 };
 
+/// The opened --can socket with its front end.
+struct CanPort {
+  transport::CanSocket socket;  ///< bound to options.can_iface
+  CanInput input;               ///< N2K, plus the --dbc messages when given
+};
+
 /// The running DUT. Not movable: the output queue refers to the output port it owns.
 class NavdApp {
  public:
   /// Takes the opened ports (extras in options.inputs order; modem when options.modem is
-  /// set); signal_fd is a signalfd for SIGTERM/SIGINT.
+  /// set; can when options.can_iface is set); signal_fd is a signalfd for SIGTERM/SIGINT.
   NavdApp(const NavdOptions& options, const NavdConfig& config, transport::SerialPort ahrs,
           std::optional<transport::SerialPort> gps, std::vector<ExtraPort> extras,
-          std::optional<transport::SerialPort> modem, transport::SerialPort output,
-          int signal_fd);
+          std::optional<transport::SerialPort> modem, std::optional<CanPort> can,
+          transport::SerialPort output, int signal_fd);
   NavdApp(const NavdApp&) = delete;
   NavdApp& operator=(const NavdApp&) = delete;
 
   /// Runs until SIGTERM/SIGINT, hang-up of the output, or EOF/hang-up of every input
-  /// (AHRS, GPS, every --input and the modem).
+  /// (AHRS, GPS, every --input, the modem and the CAN socket).
   /// Returns why it stopped (for the summary line).
   std::string run();
 
@@ -114,6 +126,8 @@ class NavdApp {
   static constexpr std::size_t kInputBufferBytes = 16 * 1024;
   /// Most bytes read from one port in one wake (the rest waits for the next wake) [bytes].
   static constexpr std::size_t kReadPerWakeBytes = 64 * 1024;
+  /// Most CAN frames taken in one wake (the rest waits for the next wake) [frames].
+  static constexpr std::size_t kCanFramesPerWake = 4096;
 
  private:
   /// Reads `port` until EAGAIN (at most kReadPerWakeBytes), passing each chunk to `sink`.
@@ -125,6 +139,8 @@ class NavdApp {
   bool handle_ahrs(const protocols::gx3::AccelRateMag& m);
   bool wait_delay();
   bool signal_pending(int timeout_ms);
+  /// Takes every waiting CAN frame (at most kCanFramesPerWake) into the CAN front end.
+  void read_can();
 
   NavdOptions options_;
   transport::SerialPort ahrs_;
@@ -162,6 +178,8 @@ class NavdApp {
   GpsCounts gps_counts_;
   std::optional<double> last_heading_deg_;  ///< last HDT heading (not used by the filter) [deg]
   std::string stop_reason_;
+  std::optional<CanPort> can_;  ///< --can: the socket and its front end
+  bool can_open_ = false;       ///< the socket has not failed
 };
 
 }  // namespace nav::dut
