@@ -91,15 +91,25 @@ int main(int argc, char** argv) {
   ReplayOptions replay;
   bool replay_dut = false;
   auto* rep = app.add_subcommand(
-      "replay", "Play a navbench capture (e.g. a run's capture-tx.log) onto serial lines with its "
-                "recorded timing, optionally to a DUT whose output is captured");
-  rep->add_option("capture", replay.capture_path, "Capture file: (<sec>.<nsec>) <port> <hex> lines")
+      "replay", "Play a navbench capture (e.g. a run's capture-tx.log) onto serial lines, or a "
+                "candump log (candump -l) onto CAN interfaces, with its recorded timing, "
+                "optionally to a DUT whose output is captured");
+  rep->add_option("capture", replay.capture_path,
+                  "Capture file: (<sec>.<nsec>) <port> <hex> lines, or a candump log: "
+                  "(<sec>.<usec>) <iface> <id>#<data> lines")
       ->required()
       ->check(CLI::ExistingFile);
   rep->add_option("--port", replay.ports,
                   "NAME=PATH[@BAUD]: play port NAME onto this serial line (default baud 115200); "
                   "ports not mapped get a pty, printed as 'NAME: /dev/pts/N'")
       ->allow_extra_args(false);
+  rep->add_option("--can", replay.can_maps,
+                  "LOGNAME=IFACE: play the candump log's interface LOGNAME onto the CAN "
+                  "interface IFACE (default: the interface of the same name)")
+      ->allow_extra_args(false);
+  rep->add_option("--format", replay.format,
+                  "auto (default: a candump log when its first line is one), navbench or candump")
+      ->check(CLI::IsMember({"auto", "navbench", "candump"}));
   rep->add_option("--speed", replay.speed, "Time scale: 2 plays twice as fast (default 1)")
       ->check(CLI::PositiveNumber);
   rep->add_option("--startup", replay.startup_s,
@@ -108,7 +118,8 @@ int main(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber);
   rep->add_flag("--dut", replay_dut,
                 "Start a DUT: --dut -- ARGV... ({port:NAME} and {port:output} are replaced by "
-                "the line paths); it is stopped with SIGTERM at the end");
+                "the line paths, {can:LOGNAME} by the CAN interface); it is stopped with SIGTERM "
+                "at the end");
   rep->add_option("--out-capture", replay.out_capture,
                   "With --dut: capture of the DUT's output (default replay-rx.log)");
   rep->add_option("--dut-log", replay.dut_log,
@@ -118,12 +129,17 @@ int main(int argc, char** argv) {
   RecordOptions record;
   auto* rec = app.add_subcommand(
       "record", "Record serial ports (or pty slaves) into a navbench capture, timestamped on "
-                "CLOCK_MONOTONIC from the start; ends after --duration or on SIGINT/SIGTERM");
-  rec->add_option("ports", record.ports, "NAME=PATH@BAUD, one per port")->required();
+                "CLOCK_MONOTONIC from the start, or CAN interfaces (--can) into a candump -l log "
+                "with the kernel's receive times; ends after --duration or on SIGINT/SIGTERM");
+  rec->add_option("ports", record.ports, "NAME=PATH@BAUD, one per port");
+  rec->add_option("--can", record.can_interfaces,
+                  "CAN interface to record (repeatable) into a candump -l log: "
+                  "(<epoch sec>.<usec>) <iface> <id>#<data>, as canplayer replays it")
+      ->allow_extra_args(false);
   rec->add_option("--duration", record.duration_s, "Seconds to record (default: until a signal)")
       ->check(CLI::NonNegativeNumber);
   rec->add_option("-o,--out", record.out_path,
-                  "Capture file to write (written as CAPTURE.partial, renamed at the end)")
+                  "Capture (or candump log) to write (written as FILE.partial, renamed at the end)")
       ->required();
 
   try {

@@ -11,12 +11,15 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <ctime>
 #include <memory>
 
 #include "nav/bench/capture.hpp"
 #include "nav/bench/replay.hpp"
 #include "nav/bench/runner.hpp"
 #include "nav/common/time.hpp"
+#include "nav/protocols/candump_log.hpp"
+#include "nav/transport/can_socket.hpp"
 #include "nav/transport/serial_port.hpp"
 
 namespace nav::bench {
@@ -36,11 +39,162 @@ struct Port {
   std::string closed;  // why reading stopped (hang-up), empty while open
 };
 
+struct CanPort {
+  transport::CanSocket socket;
+  std::size_t frames = 0;
+  std::string closed;  // why reading stopped, empty while open
+};
+
+/// CLOCK_REALTIME now [ns since the Unix epoch]: a frame the kernel did not stamp.
+std::chrono::nanoseconds realtime_now() {
+  timespec ts{};
+  ::clock_gettime(CLOCK_REALTIME, &ts);
+  return std::chrono::seconds(ts.tv_sec) + std::chrono::nanoseconds(ts.tv_nsec);
+}
+
+/// Flushes, closes and renames the .partial; false (reported) on failure.
+bool finish_file(std::unique_ptr<std::FILE, int (*)(std::FILE*)>& f, bool write_failed,
+                 const std::string& partial, const std::string& out_path) {
+  namespace fs = std::filesystem;
+  const bool flushed = std::fflush(f.get()) == 0 && !write_failed && !std::ferror(f.get());
+  const bool closed = std::fclose(f.release()) == 0;
+  std::error_code ec;
+  if (flushed && closed) fs::rename(partial, out_path, ec);
+  if (!flushed || !closed || ec) {
+    std::fprintf(stderr, "navbench: record: cannot write %s: %s (partial output in %s)\n",
+                 out_path.c_str(), ec ? ec.message().c_str() : std::strerror(errno),
+                 partial.c_str());
+    return false;
+  }
+  return true;
+}
+
+/// `record --can IFACE...`: a candump -l log of the frames received on the interfaces.
+int record_can(const RecordOptions& o) {
+  std::vector<CanPort> ports;
+  std::size_t width = 0;
+  for (const auto& name : o.can_interfaces) {
+    for (const auto& p : ports) {
+      if (p.socket.ifname() == name) {
+        std::fprintf(stderr, "navbench: record: CAN interface '%s' given twice\n", name.c_str());
+        return kExitUsage;
+      }
+    }
+    auto s = transport::CanSocket::open(name);  // kernel timestamps on (SO_TIMESTAMPNS)
+    if (!s) {
+      std::fprintf(stderr, "navbench: record: %s\n", s.error().detail.c_str());
+      return kExitBench;
+    }
+    width = std::max(width, name.size());
+    ports.push_back(CanPort{std::move(*s), 0, {}});
+  }
+  const std::string partial = o.out_path + ".partial";
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(partial.c_str(), "w"), &std::fclose);
+  if (!f) {
+    std::fprintf(stderr, "navbench: record: cannot write %s: %s\n", partial.c_str(),
+                 std::strerror(errno));
+    return kExitBench;
+  }
+  struct sigaction sa {};
+  sa.sa_handler = on_record_signal;  // no SA_RESTART: poll() returns EINTR at once
+  ::sigaction(SIGINT, &sa, nullptr);
+  ::sigaction(SIGTERM, &sa, nullptr);
+
+  const Timestamp start = monotonic_now();
+  const bool bounded = o.duration_s > 0.0;
+  const Timestamp end = start + from_seconds(o.duration_s);
+  for (const auto& p : ports) std::printf("recording CAN %s\n", p.socket.ifname().c_str());
+  std::printf("recording to %s%s\n", o.out_path.c_str(), bounded ? "" : " until SIGINT/SIGTERM");
+  std::fflush(stdout);
+
+  namespace cd = protocols::candump;
+  std::vector<pollfd> fds;
+  std::vector<std::size_t> which;
+  bool write_failed = false;
+  for (;;) {
+    if (g_stop) break;
+    const Timestamp now = monotonic_now();
+    if (bounded && now >= end) break;
+    fds.clear();
+    which.clear();
+    for (std::size_t i = 0; i < ports.size(); ++i) {
+      if (!ports[i].closed.empty()) continue;
+      fds.push_back(pollfd{ports[i].socket.fd(), POLLIN, 0});
+      which.push_back(i);
+    }
+    if (fds.empty()) break;  // every interface failed
+    Duration wait = kPollSlice;
+    if (bounded) wait = std::min(wait, end - now);
+    const int timeout_ms =
+        static_cast<int>(std::max<std::int64_t>(1, (wait.count() + 999'999) / 1'000'000));
+    const int r = ::poll(fds.data(), fds.size(), timeout_ms);
+    if (r <= 0) continue;  // timeout or EINTR
+    for (std::size_t k = 0; k < fds.size(); ++k) {
+      if (fds[k].revents == 0) continue;
+      CanPort& p = ports[which[k]];
+      for (;;) {
+        auto got = p.socket.receive();
+        if (!got) {
+          p.closed = got.error().detail;
+          std::fprintf(stderr, "navbench: record: %s; stopped reading it\n", p.closed.c_str());
+          break;
+        }
+        if (!got->has_value()) break;
+        const auto& rx = **got;
+        const std::chrono::nanoseconds t = rx.kernel_time.value_or(realtime_now());
+        cd::Record rec;
+        rec.time = cd::Timestamp{static_cast<std::uint64_t>(t.count() / 1'000'000'000),
+                                 static_cast<std::uint32_t>(t.count() % 1'000'000'000 / 1000 * 1000),
+                                 6, 10};
+        rec.interface = p.socket.ifname();
+        rec.frame.id = rx.frame.id;
+        rec.frame.extended = rx.frame.extended;
+        rec.frame.rtr = rx.frame.rtr;
+        rec.frame.dlc = rx.frame.dlc;
+        rec.frame.data = rx.frame.data;
+        for (std::size_t b = rx.frame.rtr ? 0 : rx.frame.dlc; b < rec.frame.data.size(); ++b) {
+          rec.frame.data[b] = 0;
+        }
+        const std::string line = cd::format_line(rec, width) + "\n";
+        std::fputs(line.c_str(), f.get());
+        ++p.frames;
+      }
+    }
+    if (std::ferror(f.get())) {
+      write_failed = true;
+      break;
+    }
+  }
+  const double elapsed = to_seconds(monotonic_now() - start);
+  if (!finish_file(f, write_failed, partial, o.out_path)) return kExitBench;
+
+  std::string s = "navbench record: ";
+  std::size_t total = 0;
+  for (std::size_t i = 0; i < ports.size(); ++i) {
+    const auto& p = ports[i];
+    total += p.frames;
+    s += (i ? ", " : "") + p.socket.ifname() + " " + std::to_string(p.frames) + " frames" +
+         (p.closed.empty() ? "" : " (failed)");
+  }
+  char tail[160];
+  std::snprintf(tail, sizeof tail, "; %zu frames in %.2f s%s -> ", total, elapsed,
+                g_stop ? " (stopped by signal)" : "");
+  s += tail + o.out_path;
+  std::printf("%s\n", s.c_str());
+  std::fflush(stdout);
+  return kExitPass;
+}
+
 }  // namespace
 
 int record_ports(const RecordOptions& o) {
-  if (o.ports.empty()) {
-    std::fprintf(stderr, "navbench: record: give at least one PORT=PATH@BAUD\n");
+  if (!o.can_interfaces.empty() && !o.ports.empty()) {
+    std::fprintf(stderr, "navbench: record: serial ports and --can cannot be recorded together "
+                 "(a navbench capture or a candump log): run two records\n");
+    return kExitUsage;
+  }
+  if (o.ports.empty() && o.can_interfaces.empty()) {
+    std::fprintf(stderr, "navbench: record: give at least one PORT=PATH@BAUD or --can IFACE\n");
     return kExitUsage;
   }
   if (!(o.duration_s >= 0.0)) {
@@ -51,6 +205,7 @@ int record_ports(const RecordOptions& o) {
     std::fprintf(stderr, "navbench: record: -o CAPTURE is required\n");
     return kExitUsage;
   }
+  if (!o.can_interfaces.empty()) return record_can(o);
   std::vector<PortMapping> maps;
   for (const auto& text : o.ports) {
     auto m = parse_port_mapping(text);
@@ -160,16 +315,7 @@ int record_ports(const RecordOptions& o) {
   const double elapsed = to_seconds(monotonic_now() - start);
 
   // Every exit path from here: flush, close, rename (or report and keep the .partial).
-  const bool flushed = std::fflush(f.get()) == 0 && !write_failed && !std::ferror(f.get());
-  const bool closed = std::fclose(f.release()) == 0;
-  std::error_code ec;
-  if (flushed && closed) fs::rename(partial, o.out_path, ec);
-  if (!flushed || !closed || ec) {
-    std::fprintf(stderr, "navbench: record: cannot write %s: %s (partial output in %s)\n",
-                 o.out_path.c_str(), ec ? ec.message().c_str() : std::strerror(errno),
-                 partial.c_str());
-    return kExitBench;
-  }
+  if (!finish_file(f, write_failed, partial, o.out_path)) return kExitBench;
 
   std::string s = "navbench record: ";
   std::size_t total = 0;

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "nav/bench/replay.hpp"
 
+#include <poll.h>
 #include <signal.h>
 #include <unistd.h>
 
@@ -21,7 +22,9 @@
 #include "nav/bench/pty.hpp"
 #include "nav/bench/realtime.hpp"
 #include "nav/bench/runner.hpp"
+#include "nav/protocols/candump_log.hpp"
 #include "nav/reports/run_record.hpp"
+#include "nav/transport/can_socket.hpp"
 #include "nav/transport/serial_port.hpp"
 
 namespace nav::bench {
@@ -33,20 +36,94 @@ constexpr int kDefaultBaud = 115200;             // a mapped port without @BAUD
 constexpr Duration kCheckPeriod = 50ms;          // how often the DUT is watched while playing
 constexpr Duration kDrainQuiet = 500ms;          // end of replay: no new solution for this long
 constexpr Duration kDrainMax = 3s;               // ... or at most this long
+constexpr int kCanQueueWaitMs = 20;              // a full CAN transmit queue: wait, retry once
 
 std::atomic<bool> g_interrupted{false};
 extern "C" void on_replay_signal(int) { g_interrupted = true; }
 
 
-/// The bench's end of one replayed line: a pty or a real port.
+/// The bench's end of one replayed line: a pty, a real port, or a CAN interface.
 struct Line {
   std::string name;
   std::optional<Pty> pty;
   std::optional<transport::SerialPort> serial;
+  std::optional<transport::CanSocket> can;
   std::size_t bytes = 0, dropped = 0, lines = 0;
-  int fd() const { return pty ? pty->master() : serial->fd(); }
-  std::string path() const { return pty ? pty->slave_path() : serial->path(); }
+  std::string send_error;  // the first CAN send failure other than a full queue
+  int fd() const { return pty ? pty->master() : can ? can->fd() : serial->fd(); }
+  std::string path() const {
+    return pty ? pty->slave_path() : can ? can->ifname() : serial->path();
+  }
 };
+
+/// Parses a candump log into capture lines (port = the log's interface, no bytes) and the
+/// frames at the same indices. Error frames cannot be sent through CanSocket: skipped,
+/// counted in `error_frames`. Errors: "FILE:LINE: ..." (kParse).
+Result<std::vector<CaptureLine>> parse_candump(const std::string& text, const std::string& file,
+                                               std::vector<transport::CanFrame>& frames,
+                                               std::size_t& error_frames) {
+  namespace cd = protocols::candump;
+  std::vector<CaptureLine> out;
+  std::size_t line_no = 0;
+  for (std::size_t pos = 0; pos < text.size();) {
+    const std::size_t nl = std::min(text.find('\n', pos), text.size());
+    const std::string_view line(text.data() + pos, nl - pos);
+    pos = nl + 1;
+    ++line_no;
+    const auto r = cd::parse_line(line);
+    const std::string where = file + ":" + std::to_string(line_no) + ": ";
+    if (r.status == cd::LineStatus::kIgnored) continue;
+    if (r.status != cd::LineStatus::kRecord) {
+      return fail(ErrorCode::kParse, where + r.error +
+                                         (r.status == cd::LineStatus::kUnsupported
+                                              ? " (CAN FD frames cannot be replayed)"
+                                              : " (expected a candump -l line: "
+                                                "'(<sec>.<usec>) <iface> <id>#<data>')"));
+    }
+    const cd::Record& rec = *r.record;
+    if (!rec.time) {
+      return fail(ErrorCode::kParse,
+                  where + "no timestamp: candump's screen print cannot be replayed with its "
+                          "timing (record with candump -l or navbench record --can)");
+    }
+    if (rec.frame.error) {
+      ++error_frames;
+      continue;
+    }
+    CaptureLine c;
+    c.t = Duration{static_cast<std::int64_t>(rec.time->seconds) * 1'000'000'000 +
+                   static_cast<std::int64_t>(rec.time->nanoseconds)};
+    c.port = rec.interface;
+    c.line_no = line_no;
+    transport::CanFrame f;
+    f.id = rec.frame.id;
+    f.extended = rec.frame.extended;
+    f.rtr = rec.frame.rtr;
+    f.dlc = static_cast<std::uint8_t>(std::min<std::size_t>(rec.frame.dlc, 8));
+    f.data = rec.frame.data;
+    out.push_back(std::move(c));
+    frames.push_back(f);
+  }
+  return out;
+}
+
+/// Sends one frame; a full transmit queue is waited for briefly, then the frame is dropped.
+void send_frame(Line& p, const transport::CanFrame& f) {
+  auto ok = p.can->send(f);
+  if (!ok && ok.error().code == ErrorCode::kTimeout) {
+    pollfd pf{p.can->fd(), POLLOUT, 0};
+    (void)::poll(&pf, 1, kCanQueueWaitMs);
+    ok = p.can->send(f);
+  }
+  if (ok) {
+    p.bytes += f.rtr ? 0 : f.dlc;
+  } else {
+    ++p.dropped;
+    if (p.send_error.empty() && ok.error().code != ErrorCode::kTimeout) {
+      p.send_error = ok.error().detail;
+    }
+  }
+}
 
 Result<Line> open_line(const std::string& name, const std::optional<PortMapping>& map) {
   Line l;
@@ -70,6 +147,19 @@ std::string ms(double s) {
 }
 
 }  // namespace
+
+bool looks_like_candump(const std::string& text) {
+  namespace cd = protocols::candump;
+  for (std::size_t pos = 0; pos < text.size();) {
+    const std::size_t nl = std::min(text.find('\n', pos), text.size());
+    const std::string_view line(text.data() + pos, nl - pos);
+    pos = nl + 1;
+    const auto r = cd::parse_line(line);
+    if (r.status == cd::LineStatus::kIgnored) continue;
+    return r.status == cd::LineStatus::kRecord || r.status == cd::LineStatus::kUnsupported;
+  }
+  return false;
+}
 
 Result<PortMapping> parse_port_mapping(const std::string& text) {
   const auto eq = text.find('=');
@@ -109,7 +199,21 @@ int replay_capture(const ReplayOptions& o) {
     return kExitUsage;
   }
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  auto parsed = parse_capture(text, o.capture_path);
+  if (o.format != "auto" && o.format != "navbench" && o.format != "candump") {
+    std::fprintf(stderr, "navbench: --format must be auto, navbench or candump\n");
+    return kExitUsage;
+  }
+  const bool is_can =
+      o.format == "candump" || (o.format == "auto" && looks_like_candump(text));
+  if (!is_can && !o.can_maps.empty()) {
+    std::fprintf(stderr, "navbench: --can: %s is not a candump log (use --port for a navbench "
+                 "capture, or --format candump)\n", o.capture_path.c_str());
+    return kExitUsage;
+  }
+  std::vector<transport::CanFrame> frames;  // is_can: the frame of lines[k] (same order)
+  std::size_t error_frames = 0;
+  auto parsed = is_can ? parse_candump(text, o.capture_path, frames, error_frames)
+                       : parse_capture(text, o.capture_path);
   if (!parsed) {
     std::fprintf(stderr, "navbench: %s\n", parsed.error().detail.c_str());
     return kExitUsage;
@@ -121,8 +225,21 @@ int replay_capture(const ReplayOptions& o) {
   }
   // Lines are written when a message completes, so two ports' lines can be slightly out of
   // order in the file; play them in time order.
-  std::stable_sort(lines.begin(), lines.end(),
-                   [](const CaptureLine& a, const CaptureLine& b) { return a.t < b.t; });
+  {
+    std::vector<std::size_t> order(lines.size());
+    for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
+    std::stable_sort(order.begin(), order.end(),
+                     [&](std::size_t a, std::size_t b) { return lines[a].t < lines[b].t; });
+    std::vector<CaptureLine> sorted;
+    std::vector<transport::CanFrame> sorted_frames;
+    sorted.reserve(lines.size());
+    for (std::size_t k : order) {
+      sorted.push_back(std::move(lines[k]));
+      if (is_can) sorted_frames.push_back(frames[k]);
+    }
+    lines = std::move(sorted);
+    frames = std::move(sorted_frames);
+  }
 
   std::vector<std::string> names;  // in order of first appearance in the file
   {
@@ -135,7 +252,7 @@ int replay_capture(const ReplayOptions& o) {
     }
   }
   const bool with_dut = !o.dut_argv.empty();
-  if (with_dut && std::find(names.begin(), names.end(), "output") != names.end()) {
+  if (!is_can && with_dut && std::find(names.begin(), names.end(), "output") != names.end()) {
     std::fprintf(stderr, "navbench: %s: a port named 'output' cannot be replayed to a DUT "
                  "({port:output} is the DUT's output)\n", o.capture_path.c_str());
     return kExitUsage;
@@ -144,6 +261,33 @@ int replay_capture(const ReplayOptions& o) {
   // --- --port mappings ---------------------------------------------------------------------
   std::vector<std::optional<PortMapping>> maps(names.size());
   std::optional<PortMapping> output_map;
+  std::vector<std::string> can_ifaces(is_can ? names : std::vector<std::string>{});
+  std::vector<bool> can_mapped(can_ifaces.size(), false);
+  for (const auto& text_map : o.can_maps) {
+    const auto eq = text_map.find('=');
+    const std::string log_name = eq == std::string::npos ? "" : text_map.substr(0, eq);
+    const std::string iface = eq == std::string::npos ? "" : text_map.substr(eq + 1);
+    if (log_name.empty() || iface.empty()) {
+      std::fprintf(stderr, "navbench: --can '%s': expected LOGNAME=IFACE\n", text_map.c_str());
+      return kExitUsage;
+    }
+    const auto it = std::find(names.begin(), names.end(), log_name);
+    if (it == names.end()) {
+      std::string list;
+      for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
+      std::fprintf(stderr, "navbench: --can %s: no interface '%s' in %s (interfaces: %s)\n",
+                   text_map.c_str(), log_name.c_str(), o.capture_path.c_str(), list.c_str());
+      return kExitUsage;
+    }
+    const auto i = static_cast<std::size_t>(it - names.begin());
+    if (can_mapped[i]) {
+      std::fprintf(stderr, "navbench: --can %s: interface '%s' mapped twice\n",
+                   text_map.c_str(), log_name.c_str());
+      return kExitUsage;
+    }
+    can_mapped[i] = true;
+    can_ifaces[i] = iface;
+  }
   for (const auto& text_map : o.ports) {
     auto m = parse_port_mapping(text_map);
     if (!m) {
@@ -153,6 +297,12 @@ int replay_capture(const ReplayOptions& o) {
     if (with_dut && m->name == "output") {
       output_map = *m;
       continue;
+    }
+    if (is_can) {
+      std::fprintf(stderr, "navbench: --port %s: %s is a candump log: map its interfaces with "
+                   "--can LOGNAME=IFACE (--port only for the DUT's output)\n",
+                   text_map.c_str(), o.capture_path.c_str());
+      return kExitUsage;
     }
     const auto it = std::find(names.begin(), names.end(), m->name);
     if (it == names.end()) {
@@ -179,6 +329,22 @@ int replay_capture(const ReplayOptions& o) {
   // --- open the lines ----------------------------------------------------------------------
   std::vector<Line> ports;
   for (std::size_t i = 0; i < names.size(); ++i) {
+    if (is_can) {
+      auto sock = transport::CanSocket::open(can_ifaces[i], transport::CanSocketOptions{
+                                                                .receive_own_frames = false,
+                                                                .loopback = true,
+                                                                .timestamps = false});
+      if (!sock) {
+        std::fprintf(stderr, "navbench: CAN interface '%s' of the log: %s\n", names[i].c_str(),
+                     sock.error().detail.c_str());
+        return kExitBench;
+      }
+      Line l;
+      l.name = names[i];
+      l.can.emplace(std::move(*sock));
+      ports.push_back(std::move(l));
+      continue;
+    }
     auto l = open_line(names[i], maps[i]);
     if (!l) {
       std::fprintf(stderr, "navbench: port '%s': %s\n", names[i].c_str(), l.error().detail.c_str());
@@ -228,7 +394,9 @@ int replay_capture(const ReplayOptions& o) {
     }
     for (std::string a : o.dut_argv) {
       for (std::size_t d = 0; d <= ports.size(); ++d) {
-        const std::string key = "{port:" + (d < ports.size() ? ports[d].name : "output") + "}";
+        const bool can_port = d < ports.size() && ports[d].can.has_value();
+        const std::string key = std::string(can_port ? "{can:" : "{port:") +
+                                (d < ports.size() ? ports[d].name : "output") + "}";
         const std::string path = d < ports.size() ? ports[d].path() : output->path();
         for (auto pos = a.find(key); pos != std::string::npos; pos = a.find(key, pos + path.size())) {
           a.replace(pos, key.size(), path);
@@ -259,7 +427,10 @@ int replay_capture(const ReplayOptions& o) {
 
   // --- play --------------------------------------------------------------------------------
   try_realtime_priority(20);
-  const Duration base = lines.empty() ? Duration{0} : std::min(Duration{0}, lines.front().t);
+  // A navbench capture keeps its offset from t0; a candump log (epoch times) starts at once.
+  const Duration base = lines.empty() ? Duration{0}
+                        : is_can      ? lines.front().t
+                                      : std::min(Duration{0}, lines.front().t);
   std::vector<double> lateness;
   lateness.reserve(lines.size());
   std::size_t played = 0;
@@ -278,6 +449,13 @@ int replay_capture(const ReplayOptions& o) {
     if (g_interrupted) break;
     Line& p = ports[port_of[k]];
     const Timestamp actual = monotonic_now();
+    if (p.can) {
+      send_frame(p, frames[k]);
+      ++p.lines;
+      ++played;
+      lateness.push_back(to_seconds(actual - deadline));
+      continue;
+    }
     const ssize_t n = l.bytes.empty() ? 0 : ::write(p.fd(), l.bytes.data(), l.bytes.size());
     // A serial line never blocks: bytes the reader does not take are lost.
     const std::size_t written = n > 0 ? static_cast<std::size_t>(n) : 0;
@@ -319,13 +497,26 @@ int replay_capture(const ReplayOptions& o) {
     dropped += p.dropped;
   }
   const auto st = reports::summarize(lateness);
-  std::string s = "navbench replay: " + std::to_string(ports.size()) + " ports, " +
-                  std::to_string(bytes) + " bytes, " + std::to_string(played) + " lines";
-  if (played != lines.size()) s += " (of " + std::to_string(lines.size()) + ")";
+  std::string s;
+  if (is_can) {
+    std::string ifs;
+    for (const auto& p : ports) {
+      ifs += (ifs.empty() ? "" : ", ") + p.name +
+             (p.name == p.can->ifname() ? "" : "->" + p.can->ifname());
+    }
+    s = "navbench replay: " + std::to_string(ports.size()) + " CAN interfaces (" + ifs + "), " +
+        std::to_string(played - dropped) + " frames";
+    if (played != lines.size() || dropped > 0) s += " (of " + std::to_string(lines.size()) + ")";
+  } else {
+    s = "navbench replay: " + std::to_string(ports.size()) + " ports, " + std::to_string(bytes) +
+        " bytes, " + std::to_string(played) + " lines";
+    if (played != lines.size()) s += " (of " + std::to_string(lines.size()) + ")";
+  }
   char secs[32];
   std::snprintf(secs, sizeof secs, " in %.2f s", play_s);
   s += secs;
-  if (dropped > 0) s += ", " + std::to_string(dropped) + " bytes dropped";
+  if (dropped > 0) s += ", " + std::to_string(dropped) + (is_can ? " frames" : " bytes") + " dropped";
+  if (error_frames > 0) s += ", " + std::to_string(error_frames) + " error frames skipped";
   s += "; lateness p50 " + ms(st.p50_s) + " p99 " + ms(st.p99_s) + " max " + ms(st.max_s);
   if (dut) {
     s += "; DUT solutions " + std::to_string(solutions);
@@ -336,6 +527,9 @@ int replay_capture(const ReplayOptions& o) {
   }
   std::printf("%s\n", s.c_str());
   std::fflush(stdout);
+  for (const auto& p : ports) {
+    if (!p.send_error.empty()) std::fprintf(stderr, "navbench: %s\n", p.send_error.c_str());
+  }
   if (g_interrupted) {
     std::fprintf(stderr, "navbench: replay interrupted\n");
     return kExitBench;
@@ -344,6 +538,9 @@ int replay_capture(const ReplayOptions& o) {
     std::fprintf(stderr, "navbench: the DUT %s before the end of the replay (log: %s)\n",
                  dut_early.c_str(), o.dut_log.c_str());
     return kExitDut;
+  }
+  for (const auto& p : ports) {
+    if (!p.send_error.empty()) return kExitBench;  // a CAN interface failed (e.g. went down)
   }
   return kExitPass;
 }
