@@ -19,6 +19,7 @@
 #include <thread>
 #include <unordered_map>
 
+#include "nav/bench/can_schedule.hpp"
 #include "nav/bench/capture.hpp"
 #include "nav/bench/dut_process.hpp"
 #include "nav/bench/judge.hpp"
@@ -32,8 +33,12 @@
 #include "nav/emulators/faults.hpp"
 #include "nav/emulators/keller_emulator.hpp"
 #include "nav/emulators/usbl_emulator.hpp"
+#include "nav/emulators/nmea2000_emulator.hpp"
+#include "nav/emulators/wheel_encoder_emulator.hpp"
+#include "nav/protocols/candump_log.hpp"
 #include "nav/protocols/microstrain_gx3.hpp"
 #include "nav/reports/run_record.hpp"
+#include "nav/transport/can_socket.hpp"
 #include "nav/transport/serial_port.hpp"
 
 namespace nav::bench {
@@ -74,13 +79,16 @@ FilePtr open_file(const fs::path& p) {
 }
 
 /// The bench's end of one serial line: a pty (the DUT opens its slave path) or a real port
-/// (a cable to the DUT's own port).
+/// (a cable to the DUT's own port). A device on the CAN bus has neither (can_iface set).
 struct Line {
   std::optional<Pty> pty;
   std::optional<transport::SerialPort> serial;
-  int fd() const { return pty ? pty->master() : serial->fd(); }
-  /// The path that "{port:NAME}" stands for.
-  std::string path() const { return pty ? pty->slave_path() : serial->path(); }
+  std::string can_iface;
+  int fd() const { return pty ? pty->master() : serial ? serial->fd() : -1; }
+  /// The path that "{port:NAME}" stands for (a CAN device: its interface).
+  std::string path() const {
+    return pty ? pty->slave_path() : serial ? serial->path() : can_iface;
+  }
   /// Lockstep ordering across lines (see Pty::flush_to_slave); a real line needs none.
   void flush() const {
     if (pty) pty->flush_to_slave();
@@ -127,6 +135,12 @@ std::vector<RunDevice> run_devices(const Scenario& sc) {
 Result<std::vector<Line>> open_lines(const Scenario& sc) {
   std::vector<Line> lines;
   for (const auto& d : run_devices(sc)) {
+    if (d.spec.on_can()) {
+      Line l;
+      l.can_iface = sc.can ? sc.can->interface : std::string();
+      lines.push_back(std::move(l));
+      continue;
+    }
     auto l = open_line(d.spec.port, d.spec.baud);
     if (!l) {
       return fail(l.error().code,
@@ -150,15 +164,26 @@ Result<std::vector<Line>> open_lines(const Scenario& sc) {
 }
 
 /// Everything one run holds while it executes.
+/// One CAN frame of the run: its device, the frame, its place on the bus and when the bench
+/// writes it to the interface (the slot end less the 3-bit interframe space: the frame's last
+/// bit, the end of EOF, has left; that is when a receiving controller delivers it).
+struct CanTxFrame {
+  std::uint32_t device = 0;
+  emulators::CanWireFrame f;
+  CanFrameSlot slot;
+  Duration due{};
+};
+
 class Run {
  public:
   Run(Scenario sc, std::vector<emulators::TruthTrajectory> truths, std::vector<Line> lines,
-      fs::path dir, bool quiet)
+      std::optional<transport::CanSocket> can, fs::path dir, bool quiet)
       : sc_(std::move(sc)),
         truths_(std::move(truths)),
         dir_(std::move(dir)),
         quiet_(quiet),
-        lines_(std::move(lines)) {
+        lines_(std::move(lines)),
+        can_(std::move(can)) {
     for (auto& d : run_devices(sc_)) {
       devs_.push_back(std::move(d.spec));
       local_names_.push_back(std::move(d.local_name));
@@ -197,6 +222,11 @@ class Run {
   };
 
   void generate();
+  /// Every CAN device's frames, on the bus schedule (can_tx_).
+  void generate_can();
+  /// Sends every CAN frame due at or before scenario time t (realtime: each at its time).
+  void send_can_due(Duration t);
+  void send_can(CanTxFrame& tx);
   std::vector<std::string> dut_argv(std::uint32_t v) const;
   void run_realtime();
   void run_lockstep();
@@ -301,6 +331,16 @@ class Run {
   /// written (the DUT answers at once in lockstep, so its requests are stamped with it).
   Duration lockstep_now_{0};
   std::vector<reports::LatenessRow> lateness_;
+  /// The CAN bus (vehicle.can): the socket, every frame in bus order, the next to send, what
+  /// was sent per device, the write lateness of each frame (realtime) and capture-can.log.
+  std::optional<transport::CanSocket> can_;
+  std::vector<CanTxFrame> can_tx_;
+  std::size_t can_next_ = 0;
+  std::vector<std::size_t> can_frames_, can_bytes_, can_dropped_;
+  std::vector<std::vector<emulators::WireMessage>> can_validity_;  ///< per device (faults)
+  std::vector<CanFrameSlot> can_slots_;
+  std::vector<double> can_lateness_;
+  FilePtr can_capture_;
   bool crashed_ = false, hung_ = false;
   Duration next_progress_ = kProgressPeriod;
 };
@@ -322,6 +362,9 @@ std::vector<emulators::WireMessage> generate_stream(const DeviceSpec& dev,
       return {};  // polled: its answers are made as the DUT's requests arrive
     case DeviceSpec::Type::kAcousticModem:
       return {};  // it writes only what the acoustic channel delivers
+    case DeviceSpec::Type::kNmea2000:
+    case DeviceSpec::Type::kWheelEncoders:
+      return {};  // CAN frames: generate_can()
   }
   throw std::logic_error("unknown device type");
 }
@@ -335,6 +378,8 @@ const std::vector<emulators::MeasurementFault>& measurement_faults(const DeviceS
     case DeviceSpec::Type::kEbimu: return dev.ebimu.measurement_faults;
     case DeviceSpec::Type::kEvologicsUsbl: return dev.usbl.measurement_faults;
     case DeviceSpec::Type::kKeller: return dev.keller.measurement_faults;
+    case DeviceSpec::Type::kNmea2000: return dev.n2k.measurement_faults;
+    case DeviceSpec::Type::kWheelEncoders:
     case DeviceSpec::Type::kAcousticModem: {
       static const std::vector<emulators::MeasurementFault> kNone;
       return kNone;
@@ -400,6 +445,95 @@ void Run::generate() {
   streaming_.assign(devs_.size(), 1);
   for (std::uint32_t d = 0; d < devs_.size(); ++d) {
     if (is_gx3(d)) streaming_[d] = devs_[d].gx3_continuous ? 1 : 0;
+  }
+  generate_can();
+}
+
+void Run::generate_can() {
+  can_frames_.assign(devs_.size(), 0);
+  can_bytes_.assign(devs_.size(), 0);
+  can_dropped_.assign(devs_.size(), 0);
+  can_validity_.assign(devs_.size(), {});
+  if (!sc_.can) return;
+  std::vector<CanFrameRequest> requests;
+  for (std::uint32_t d = 0; d < devs_.size(); ++d) {
+    const auto& dev = devs_[d];
+    if (!dev.on_can()) continue;
+    const auto& truth = *vehicle_of(d).truth;
+    const auto seed = emulators::device_seed(sc_.seed, dev.name);
+    std::vector<emulators::CanWireFrame> frames =
+        dev.type == DeviceSpec::Type::kNmea2000
+            ? emulators::generate_nmea2000(dev.n2k, truth, sc_.duration, seed)
+            : emulators::generate_wheel_encoders(*dev.wheels, *dev.wheel_codec, truth,
+                                                 sc_.duration, seed);
+    for (auto& f : frames) {
+      emulators::WireMessage m;
+      m.t_valid = f.t_valid;
+      m.t_send = f.t_ready;
+      can_validity_[d].push_back(std::move(m));
+      requests.push_back(CanFrameRequest{f.t_ready, f.frame.id, f.frame.extended, f.frame.rtr,
+                                         static_cast<std::uint8_t>(f.frame.length())});
+      can_tx_.push_back(CanTxFrame{d, std::move(f), {}, {}});
+    }
+  }
+  can_slots_ = schedule_can_bus(requests, sc_.can->bitrate_bps);
+  const double bit_ns = 1e9 / sc_.can->bitrate_bps;
+  const auto ifs = Duration(static_cast<Duration::rep>(std::llround(3.0 * bit_ns)));
+  for (std::size_t i = 0; i < can_tx_.size(); ++i) {
+    can_tx_[i].slot = can_slots_[i];
+    can_tx_[i].due = can_slots_[i].end - ifs;
+  }
+  // Bus order: one frame at a time, so ordering by start orders by due time too.
+  std::stable_sort(can_tx_.begin(), can_tx_.end(), [](const CanTxFrame& a, const CanTxFrame& b) {
+    return a.slot.start < b.slot.start;
+  });
+}
+
+void Run::send_can(CanTxFrame& tx) {
+  transport::CanFrame f;
+  f.id = tx.f.frame.id;
+  f.extended = tx.f.frame.extended;
+  f.rtr = tx.f.frame.rtr;
+  f.dlc = static_cast<std::uint8_t>(tx.f.frame.length());
+  std::copy(tx.f.frame.data.begin(), tx.f.frame.data.end(), f.data.begin());
+  const Timestamp start = monotonic_now();
+  auto r = can_->send(f);
+  if (!r && r.error().code == ErrorCode::kTimeout && sc_.mode == TimeMode::kLockstep) {
+    // Lockstep: wait for room in the transmit queue, as long as the watchdog allows.
+    const Timestamp give_up = monotonic_now() + max_watchdog();
+    while (!r && r.error().code == ErrorCode::kTimeout && monotonic_now() < give_up) {
+      pollfd p{can_->fd(), POLLOUT, 0};
+      ::poll(&p, 1, 10);
+      r = can_->send(f);
+    }
+  }
+  const std::uint32_t d = tx.device;
+  if (!r) {
+    ++can_dropped_[d];
+    return;
+  }
+  ++can_frames_[d];
+  can_bytes_[d] += f.dlc;
+  // Realtime stamps the capture when the frame was written; lockstep with its due time.
+  const Duration stamp = sc_.mode == TimeMode::kRealtime ? start - t0_ : tx.due;
+  if (sc_.mode == TimeMode::kRealtime) can_lateness_.push_back(to_seconds(stamp - tx.due));
+  protocols::candump::Record rec;
+  const auto ns = std::max<std::int64_t>(0, stamp.count());
+  rec.time = protocols::candump::Timestamp{static_cast<std::uint64_t>(ns / 1000000000),
+                                           static_cast<std::uint32_t>(ns % 1000000000), 6, 10};
+  rec.interface = sc_.can->interface;
+  rec.frame = tx.f.frame;
+  const std::string line = protocols::candump::format_line(rec) + "\n";
+  std::fputs(line.c_str(), can_capture_.get());
+}
+
+void Run::send_can_due(Duration t) {
+  while (can_next_ < can_tx_.size() && can_tx_[can_next_].due <= t) {
+    if (g_interrupted) return;
+    CanTxFrame& tx = can_tx_[can_next_];
+    if (sc_.mode == TimeMode::kRealtime) wait_realtime(t0_ + tx.due);
+    send_can(tx);
+    ++can_next_;
   }
 }
 
@@ -609,6 +743,7 @@ void Run::run_realtime() {
       next_check = deadline + kCheckPeriod;
       progress(c.t);
     }
+    send_can_due(c.t);  // CAN frames due before this chunk, each at its time
     wait_realtime(deadline);
     poll_host_lines(monotonic_now() - t0_);
     const ScheduledMessage& m = schedule_.messages[c.message];
@@ -654,6 +789,7 @@ void Run::run_lockstep() {
     // What the DUT wrote while answering the messages so far happened at lockstep_now_;
     // answers due before this message's first byte go out first.
     poll_host_lines(lockstep_now_);
+    send_can_due(m.start);  // CAN frames due at or before this message's first byte go first
     send_due_answers(m.start);
     Vehicle& veh = vehicle_of(m.device);
     if (!streaming_[m.device] && is_trigger(m) && veh.triggers_sent == 0) {
@@ -737,6 +873,7 @@ reports::RunRecord Run::execute() {
   generate();
   tx_capture_ = open_file(dir_ / "capture-tx.log");
   rx_capture_ = open_file(dir_ / "capture-rx.log");
+  if (sc_.can) can_capture_ = open_file(dir_ / "capture-can.log");
   fs::copy_file(sc_.file, dir_ / "scenario.yaml");
 
   Duration startup{0};
@@ -769,6 +906,8 @@ reports::RunRecord Run::execute() {
   if (dut_ok(monotonic_now()) && !g_interrupted) {
     if (sc_.mode == TimeMode::kRealtime) run_realtime();
     else run_lockstep();
+    // CAN frames due after the last serial message.
+    if (dut_ok(monotonic_now()) && !g_interrupted) send_can_due(Duration::max());
     if (dut_ok(monotonic_now()) && !g_interrupted) drain();
   }
   for (auto& veh : vehicles_) {
@@ -794,6 +933,7 @@ reports::RunRecord Run::execute() {
   for (auto& veh : vehicles_) veh.proc->stop();
   for (auto& veh : vehicles_) veh.reader->stop();
   std::fflush(tx_capture_.get());
+  if (can_capture_) std::fflush(can_capture_.get());
 
   const TruthTable table(*primary.truth, sc_.duration, sc_.truth_rate_hz);
   JudgeInput in{&sc_, &table, primary.triggers, primary.reader->answers(), t0_, alive, dut_status};
@@ -822,15 +962,47 @@ reports::RunRecord Run::execute() {
   for (const auto& s : table.samples()) rec.truth.push_back({to_seconds(s.t), s.p_n, s.q_nb});
   for (std::size_t d = 0; d < devs_.size(); ++d) {
     const auto& dev = devs_[d];
+    if (dev.on_can()) {
+      reports::DeviceRow row;
+      row.name = dev.name;
+      row.type = device_type_name(dev.type);
+      row.port = sc_.can->interface;
+      row.baud = static_cast<int>(sc_.can->bitrate_bps);
+      row.seed = emulators::device_seed(sc_.seed, dev.name);
+      row.messages = can_frames_[d];
+      row.bytes = can_bytes_[d];
+      row.can = true;
+      row.frames_dropped = can_dropped_[d];
+      rec.devices.push_back(std::move(row));
+      continue;
+    }
     rec.devices.push_back({dev.name, device_type_name(dev.type), lines_[d].path(), dev.baud,
                            emulators::device_seed(sc_.seed, dev.name), messages_sent_[d],
                            bytes_sent_[d], bytes_dropped_[d], suppressed_[d]});
+  }
+  if (sc_.can) {
+    reports::CanBusRow bus;
+    bus.interface = sc_.can->interface;
+    bus.bitrate_bps = sc_.can->bitrate_bps;
+    std::vector<double> queueing;
+    for (const auto& tx : can_tx_) {
+      bus.frame_bits += tx.slot.bits;
+      queueing.push_back(to_seconds(tx.slot.start - tx.f.t_ready));
+    }
+    for (std::size_t d = 0; d < devs_.size(); ++d) {
+      bus.frames_sent += can_frames_[d];
+      bus.frames_dropped += can_dropped_[d];
+    }
+    bus.bus_load = can_bus_load(can_slots_, sc_.duration);
+    bus.queueing_delay = reports::summarize(std::move(queueing));
+    bus.write_lateness = reports::summarize(can_lateness_);
+    rec.can_buses.push_back(std::move(bus));
   }
   for (std::uint32_t d = 0; d < devs_.size(); ++d) {
     const auto& dev = devs_[d];
     auto records = polled_[d] ? polled_[d]->fault_records() : stream_fault_records_[d];
     // Measurement faults affect the messages whose time of validity is in their window.
-    const auto& sent = polled_[d] ? answered_[d] : streams_[d];
+    const auto& sent = polled_[d] ? answered_[d] : dev.on_can() ? can_validity_[d] : streams_[d];
     for (const auto& f : measurement_faults(dev)) {
       records.push_back(emulators::measurement_fault_record(f, sent));
     }
@@ -921,6 +1093,16 @@ int run_scenario(const RunOptions& o) {
     std::fprintf(stderr, "navbench: %s\n", lines.error().detail.c_str());
     return kExitBench;
   }
+  std::optional<transport::CanSocket> can;
+  if (sc->can) {
+    auto sock = transport::CanSocket::open(sc->can->interface);
+    if (!sock) {
+      std::fprintf(stderr, "navbench: %s: vehicle.can.interface: %s\n", sc->file.c_str(),
+                   sock.error().detail.c_str());
+      return kExitBench;
+    }
+    can.emplace(std::move(*sock));
+  }
   const fs::path final_dir =
       o.out_dir.empty() ? fs::path("runs") / (sc->name + "-" + utc_now("%Y%m%dT%H%M%SZ"))
                         : fs::path(o.out_dir);
@@ -946,7 +1128,8 @@ int run_scenario(const RunOptions& o) {
   ::signal(SIGPIPE, SIG_IGN);
 
   try {
-    Run run(std::move(*sc), std::move(truths), std::move(*lines), partial, o.quiet);
+    Run run(std::move(*sc), std::move(truths), std::move(*lines), std::move(can), partial,
+            o.quiet);
     reports::RunRecord rec = run.execute();
     rec.run_dir = final_dir.string();
     reports::write_reports(rec, partial.string());

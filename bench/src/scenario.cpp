@@ -11,6 +11,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdint>
@@ -156,9 +157,54 @@ Segment read_segment(const Field& item, PathCursor& cur) {
   return seg;
 }
 
+/// A CAN bit rate with its unit: "250 kbit/s", "1 Mbit/s", "125000 bit/s", from 10 kbit/s to
+/// 1 Mbit/s (classic CAN) [bit/s].
+double read_can_bitrate(const Field& f) {
+  const std::string expected = "a CAN bit rate such as '250 kbit/s', '1 Mbit/s' or '500000 bit/s'";
+  std::string t = f.text(expected);
+  double scale = 0.0;
+  for (const auto& [unit, k] : {std::pair<std::string_view, double>{"kbit/s", 1e3},
+                                {"Mbit/s", 1e6},
+                                {"bit/s", 1.0}}) {
+    if (t.size() > unit.size() && t.compare(t.size() - unit.size(), unit.size(), unit) == 0) {
+      t.resize(t.size() - unit.size());
+      scale = k;
+      break;
+    }
+  }
+  while (!t.empty() && t.back() == ' ') t.pop_back();
+  const auto n = scale > 0.0 ? parse_number(t) : std::nullopt;
+  if (!n) f.fail("expected " + expected + ", got " + quoted(f.node().Scalar()));
+  const double bps = *n * scale;
+  if (!(bps >= 10e3 && bps <= 1e6)) {
+    f.fail("expected a classic CAN bit rate from 10 kbit/s to 1 Mbit/s, got " +
+           quoted(f.node().Scalar()));
+  }
+  return bps;
+}
+
+/// vehicle.can: {interface, bitrate}.
+CanBusSpec read_can(const Field& f) {
+  const MapReader m(f, {"interface", "bitrate"});
+  CanBusSpec c;
+  const Field i = m.required("interface");
+  c.interface = i.text("a CAN interface name such as vcan0 or can0");
+  const bool ok = !c.interface.empty() && c.interface.size() < 16 &&
+                  std::all_of(c.interface.begin(), c.interface.end(), [](char ch) {
+                    return std::isalnum(static_cast<unsigned char>(ch)) || ch == '_' ||
+                           ch == '-' || ch == '.';
+                  });
+  if (!ok) {
+    i.fail("expected a CAN interface name such as vcan0 or can0 (at most 15 characters), got " +
+           quoted(c.interface));
+  }
+  if (auto v = m.optional("bitrate")) c.bitrate_bps = read_can_bitrate(*v);
+  return c;
+}
+
 void read_vehicle(const Field& f, Scenario& s) {
   const MapReader m(f, {"name", "start", "max_accel", "arc_transition", "motion", "seabed", "path",
-                       "devices"});
+                       "can", "devices"});
   auto& t = s.trajectory;
   if (auto v = m.optional("name")) s.vehicle_name = v->identifier();
   if (auto v = m.optional("start")) read_start(*v, t);
@@ -185,6 +231,7 @@ void read_vehicle(const Field& f, Scenario& s) {
     }
     cur.seabed_m = s.seabed_depth_m;
   }
+  if (auto v = m.optional("can")) s.can = read_can(*v);
   for (const Field& item : m.required("path").list("a list of path segments", 1)) {
     t.segments.push_back(read_segment(item, cur));
     s.segment_locations.push_back(location(s.file, item.mark()));
@@ -384,6 +431,24 @@ void read_peers(const Field& f, Scenario& s) {
     tmp.mode = s.mode;
     tmp.datum = s.datum;
     const Field vehicle = m.required("vehicle");
+    // CAN buses are the primary vehicle's only (not supported on peers yet).
+    if (vehicle.node().IsMap()) {
+      if (auto c = vehicle.peek("can")) {
+        c->fail("a CAN bus on a peer vehicle is not supported yet (only the primary vehicle "
+                "may have 'can:')");
+      }
+      if (auto ds = vehicle.peek("devices"); ds && ds->node().IsSequence()) {
+        for (const Field& d : ds->list("a list of devices", 0)) {
+          if (!d.node().IsMap()) continue;
+          if (auto t = d.peek("type"); t && t->node().IsScalar() &&
+                                       (t->node().Scalar() == "nmea2000" ||
+                                        t->node().Scalar() == "wheel-encoders")) {
+            t->fail("CAN devices on a peer vehicle are not supported yet (only the primary "
+                    "vehicle has a CAN bus)");
+          }
+        }
+      }
+    }
     read_vehicle(vehicle, tmp);
     const auto [it, fresh] = vehicles.emplace(tmp.vehicle_name, item.mark().line + 1);
     if (!fresh) {

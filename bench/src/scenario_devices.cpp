@@ -17,6 +17,7 @@
 
 #include "nav/common/units.hpp"
 #include "nav/protocols/microstrain_gx3.hpp"
+#include "nav/protocols/nmea2000.hpp"
 
 namespace nav::bench::detail {
 namespace {
@@ -479,13 +480,15 @@ struct AnyFaultKind {
 std::vector<emulators::MeasurementFault::Kind> special_fault_kinds(DeviceSpec::Type t) {
   using MK = emulators::MeasurementFault::Kind;
   switch (t) {
-    case DeviceSpec::Type::kNmeaGps: return {MK::kGpsJump};
+    case DeviceSpec::Type::kNmeaGps:
+    case DeviceSpec::Type::kNmea2000: return {MK::kGpsJump};
     case DeviceSpec::Type::kDvl: return {MK::kBottomLockLoss};
     case DeviceSpec::Type::kEvologicsUsbl: return {MK::kUsblOutliers};
     case DeviceSpec::Type::kMicrostrainGx3:
     case DeviceSpec::Type::kEbimu:
     case DeviceSpec::Type::kKeller:
-    case DeviceSpec::Type::kAcousticModem: break;
+    case DeviceSpec::Type::kAcousticModem:
+    case DeviceSpec::Type::kWheelEncoders: break;
   }
   return {};
 }
@@ -500,7 +503,9 @@ std::vector<emulators::Quantity> fault_quantities(DeviceSpec::Type t) {
     case DeviceSpec::Type::kNmeaGps: return {Q::kVelocity};
     case DeviceSpec::Type::kEvologicsUsbl: return {Q::kRange};
     case DeviceSpec::Type::kKeller: return {Q::kPressure};
-    case DeviceSpec::Type::kAcousticModem: break;
+    case DeviceSpec::Type::kNmea2000: return {Q::kAttitude, Q::kGyro, Q::kVelocity, Q::kRange};
+    case DeviceSpec::Type::kAcousticModem:
+    case DeviceSpec::Type::kWheelEncoders: break;
   }
   return {};
 }
@@ -528,7 +533,9 @@ std::vector<emulators::MeasurementFault>& measurement_faults(DeviceSpec& d) {
     case DeviceSpec::Type::kEbimu: return d.ebimu.measurement_faults;
     case DeviceSpec::Type::kEvologicsUsbl: return d.usbl.measurement_faults;
     case DeviceSpec::Type::kKeller: return d.keller.measurement_faults;
-    case DeviceSpec::Type::kAcousticModem: break;  // takes no faults (read_device())
+    case DeviceSpec::Type::kNmea2000: return d.n2k.measurement_faults;
+    case DeviceSpec::Type::kAcousticModem:
+    case DeviceSpec::Type::kWheelEncoders: break;  // take no faults (read_device())
   }
   return d.gx3.measurement_faults;
 }
@@ -546,7 +553,10 @@ void read_fault(const Field& item, Duration run, DeviceSpec& d) {
       {"byte_loss", Kind::kByteLoss}};
   // The kinds this device type takes, in the order the error message names them.
   std::vector<std::pair<std::string, AnyFaultKind>> kinds;
-  for (const auto& [name, k] : stream_kinds) kinds.push_back({name, AnyFaultKind{false, k, {}}});
+  // A CAN device's frames take measurement faults only (CAN frame faults: not yet).
+  if (!d.on_can()) {
+    for (const auto& [name, k] : stream_kinds) kinds.push_back({name, AnyFaultKind{false, k, {}}});
+  }
   std::vector<MK> measurement_kinds{MK::kWrong};
   for (const MK k : special_fault_kinds(d.type)) measurement_kinds.push_back(k);
   for (const MK k : measurement_kinds) {
@@ -560,6 +570,16 @@ void read_fault(const Field& item, Duration run, DeviceSpec& d) {
     for (const auto& [name, k] : kinds) names.push_back(name);
     const std::string expected = "one of " + join(names);
     const std::string t = kind_field->text(expected);
+    if (d.on_can()) {
+      for (const auto& [name, k] : stream_kinds) {
+        if (t == name) {
+          kind_field->fail("expected " + expected + " (for type " + device_type_name(d.type) +
+                           "), got " + quoted(t) +
+                           ": CAN devices take measurement faults only (CAN frame faults are "
+                           "not supported yet)");
+        }
+      }
+    }
     const std::vector<std::pair<MK, const char*>> owners{{MK::kGpsJump, "nmea0183-gps"},
                                                          {MK::kBottomLockLoss, "dvl"},
                                                          {MK::kUsblOutliers, "evologics-usbl"}};
@@ -695,6 +715,81 @@ void read_fault(const Field& item, Duration run, DeviceSpec& d) {
   d.faults.push_back(f);
 }
 
+/// An `nmea2000` device's keys (docs/scenario.md): source, pgns, errors, GNSS fix rules.
+void read_n2k(const MapReader& m, const Scenario& s, emulators::Nmea2000Config& c) {
+  namespace n2k = protocols::n2k;
+  c.datum_lat_rad = s.datum.lat_rad;
+  c.datum_lon_rad = s.datum.lon_rad;
+  c.datum_alt_m = s.datum.alt_m;
+  c.seabed_depth_m = s.seabed_depth_m;  // none: 128267 says "no bottom"
+  if (auto v = m.optional("source")) c.source = v->integer<std::uint8_t>(0, 251);
+  if (auto v = m.optional("pgns")) {
+    const std::vector<std::pair<std::uint32_t, emulators::Nmea2000Pgn*>> pgns{
+        {n2k::kPgnVesselHeading, &c.heading},     {n2k::kPgnRateOfTurn, &c.rate_of_turn},
+        {n2k::kPgnAttitude, &c.attitude},         {n2k::kPgnSpeedWater, &c.speed_water},
+        {n2k::kPgnWaterDepth, &c.water_depth},    {n2k::kPgnPositionRapid, &c.position_rapid},
+        {n2k::kPgnCogSogRapid, &c.cog_sog_rapid}, {n2k::kPgnGnssPosition, &c.gnss_position}};
+    std::vector<std::string> names;
+    for (const auto& [pgn, unused] : pgns) names.push_back(std::to_string(pgn));
+    const MapReader p(*v, names);
+    const auto read_rate = [](const Field& r) {
+      const double hz = r.quantity(Dimension::kFrequency, Bound::kNonNegative);
+      if (hz > emulators::kMaxN2kRateHz) {
+        r.fail("expected a rate from 0 Hz (off) to 100 Hz, got " + quoted(r.node().Scalar()));
+      }
+      return hz;
+    };
+    for (const auto& [pgn, out] : pgns) {
+      const auto f = p.optional(std::to_string(pgn));
+      if (!f) continue;
+      if (f->node().IsMap()) {
+        const MapReader e(*f, {"rate", "priority"});
+        if (auto r = e.optional("rate")) out->rate_hz = read_rate(*r);
+        if (auto r = e.optional("priority")) out->priority = r->integer<std::uint8_t>(0, 7);
+      } else {
+        out->rate_hz = read_rate(*f);
+      }
+    }
+  }
+  if (auto v = m.optional("errors")) {
+    const MapReader e(*v, {"heading", "attitude", "rate", "speed", "depth", "position",
+                           "vertical", "velocity"});
+    if (auto x = e.optional("heading")) {
+      c.heading_std_rad = x->quantity(Dimension::kAngle, Bound::kNonNegative);
+    }
+    if (auto x = e.optional("attitude")) {
+      c.attitude_std_rad = x->quantity(Dimension::kAngle, Bound::kNonNegative);
+    }
+    if (auto x = e.optional("rate")) {
+      c.rate_of_turn_std_radps = x->quantity(Dimension::kAngularRate, Bound::kNonNegative);
+    }
+    if (auto x = e.optional("speed")) {
+      c.speed_water_std_mps = x->quantity(Dimension::kSpeed, Bound::kNonNegative);
+    }
+    if (auto x = e.optional("depth")) {
+      c.depth_std_m = x->quantity(Dimension::kLength, Bound::kNonNegative);
+    }
+    if (auto x = e.optional("position")) {
+      c.horizontal_std_m = x->quantity(Dimension::kLength, Bound::kNonNegative);
+    }
+    if (auto x = e.optional("vertical")) {
+      c.vertical_std_m = x->quantity(Dimension::kLength, Bound::kNonNegative);
+    }
+    if (auto x = e.optional("velocity")) {
+      c.velocity_std_mps = x->quantity(Dimension::kSpeed, Bound::kNonNegative);
+    }
+  }
+  if (auto v = m.optional("max_depth_for_fix")) {
+    c.max_depth_for_fix_m = v->quantity(Dimension::kLength, Bound::kNonNegative);
+  }
+  if (auto v = m.optional("reacquisition")) c.reacquisition = v->duration(Bound::kNonNegative);
+  if (auto v = m.optional("utc_start")) c.utc_start_unix_s = utc_seconds(*v);
+}
+
+/// A `wheel-encoders` device's keys (defined at the end of this file).
+void read_wheels(const MapReader& m, const Scenario& s, Duration latency,
+                 std::optional<double> rate_hz, DeviceSpec& d);
+
 DeviceSpec read_device(const Field& item, const Scenario& s) {
   using Type = DeviceSpec::Type;
   const std::vector<std::pair<std::string, Type>> types{
@@ -704,12 +799,14 @@ DeviceSpec read_device(const Field& item, const Scenario& s) {
       {"ebimu-9dof", Type::kEbimu},
       {"evologics-usbl", Type::kEvologicsUsbl},
       {"keller-rs485", Type::kKeller},
-      {"acoustic-modem", Type::kAcousticModem}};
+      {"acoustic-modem", Type::kAcousticModem},
+      {"nmea2000", Type::kNmea2000},
+      {"wheel-encoders", Type::kWheelEncoders}};
   if (!item.node().IsMap()) item.fail("expected a device map, got " + what_is(item.node()));
   const auto type_field = item.peek("type");
   if (!type_field) {
     item.fail("missing required key 'type' (microstrain-gx3-25, nmea0183-gps, dvl, ebimu-9dof, "
-              "evologics-usbl, keller-rs485 or acoustic-modem)");
+              "evologics-usbl, keller-rs485, acoustic-modem, nmea2000 or wheel-encoders)");
   }
   DeviceSpec d;
   d.type = type_field->choice(types);
@@ -741,6 +838,15 @@ DeviceSpec read_device(const Field& item, const Scenario& s) {
       // A node of the acoustic channel: no stream, no error model, no faults.
       keys = {"name", "type", "port", "baud"};
       break;
+    case Type::kNmea2000:
+      // On the CAN bus: no port or baud; per-PGN rates instead of one rate.
+      keys = {"name",       "type",         "source",  "pgns",      "latency",
+              "errors",     "max_depth_for_fix", "reacquisition", "utc_start", "faults"};
+      break;
+    case Type::kWheelEncoders:
+      keys = {"name", "type", "dbc", "wheel_radius", "track", "slip", "errors", "rate",
+              "latency"};
+      break;
   }
   const MapReader m(item, keys);
 
@@ -757,6 +863,13 @@ DeviceSpec read_device(const Field& item, const Scenario& s) {
     case Type::kEvologicsUsbl: d.baud = 19200; rate_hz = 1.0; break;
     case Type::kKeller: d.baud = 9600; break;  // polled: the DUT sets the rate
     case Type::kAcousticModem: d.baud = 9600; break;  // the DUT's serial side of the modem
+    case Type::kNmea2000: latency = d.n2k.latency; break;
+    case Type::kWheelEncoders: latency = 1ms; break;  // WheelEncoderConfig's default
+  }
+  if (d.on_can() && !s.can) {
+    type_field->fail(std::string("a ") + device_type_name(d.type) +
+                     " device is on the vehicle's CAN bus: add 'can: {interface: vcan0}' "
+                     "(and a bitrate) to vehicle");
   }
   if (auto v = m.optional("baud")) d.baud = v->baud();
   if (auto v = m.optional("rate")) rate_hz = v->rate();
@@ -804,6 +917,13 @@ DeviceSpec read_device(const Field& item, const Scenario& s) {
       break;  // polled: nothing is sent unasked, so there is no stream to fit on the line
     case Type::kAcousticModem:
       break;  // sends only what the channel delivers
+    case Type::kNmea2000:
+      d.n2k.latency = latency;
+      read_n2k(m, s, d.n2k);
+      break;  // on the CAN bus: the bus schedule fits the frames, no serial line
+    case Type::kWheelEncoders:
+      read_wheels(m, s, latency, m.has("rate") ? std::optional<double>(rate_hz) : std::nullopt, d);
+      break;
   }
 
   // Does the stream fit on the line?
@@ -867,8 +987,73 @@ const char* device_type_name(DeviceSpec::Type t) {
     case DeviceSpec::Type::kEvologicsUsbl: return "evologics-usbl";
     case DeviceSpec::Type::kKeller: return "keller-rs485";
     case DeviceSpec::Type::kAcousticModem: return "acoustic-modem";
+    case DeviceSpec::Type::kNmea2000: return "nmea2000";
+    case DeviceSpec::Type::kWheelEncoders: return "wheel-encoders";
   }
   return "?";
 }
 
 }  // namespace nav::bench
+
+// The wheel encoder headers bring <filesystem> and with it std::quoted, which ADL would
+// prefer to detail::quoted for std::string arguments: they come after every other use.
+#include <filesystem>
+
+#include "nav/emulators/wheel_encoder_emulator.hpp"
+#include "nav/protocols/dbc.hpp"
+#include "nav/protocols/wheel_encoder.hpp"
+
+namespace nav::bench::detail {
+namespace {
+
+/// detail::quoted for std::string (a non-template: preferred over std::quoted).
+std::string quoted(const std::string& s) { return detail::quoted(std::string_view(s)); }
+
+/// A `wheel-encoders` device's keys: the DBC (loaded and checked against the codec here),
+/// the drive geometry, slip and noise.
+void read_wheels(const MapReader& m, const Scenario& s, Duration latency,
+                 std::optional<double> rate_hz, DeviceSpec& d) {
+  namespace fs = std::filesystem;
+  emulators::WheelEncoderConfig c;
+  c.latency = latency;
+  c.rate_hz = rate_hz;
+  const Field f = m.required("dbc");
+  const std::string written = f.text("a DBC file path such as fixtures/crawler.dbc");
+  fs::path path(written);
+  if (path.is_relative()) path = fs::path(s.file).parent_path() / path;
+  auto db = protocols::dbc::load(path);
+  if (!db) f.fail("cannot use DBC " + path.string() + ": " + db.error().detail);
+  auto codec = protocols::wheel_encoder::WheelEncoderCodec::from_database(*db);
+  if (!codec) {
+    f.fail("DBC " + path.string() + " does not fit the wheel encoder codec: " +
+           codec.error().detail);
+  }
+  d.dbc_path = path.string();
+  d.wheel_codec =
+      std::make_shared<const protocols::wheel_encoder::WheelEncoderCodec>(std::move(*codec));
+  if (auto v = m.optional("wheel_radius")) c.wheel_radius_m = read_length_positive(*v);
+  if (auto v = m.optional("track")) c.track_width_m = read_length_positive(*v);
+  if (auto v = m.optional("slip")) {
+    const MapReader sl(*v, {"left", "right", "walk"});
+    if (auto x = sl.optional("left")) c.slip.left = x->signed_ratio();
+    if (auto x = sl.optional("right")) c.slip.right = x->signed_ratio();
+    if (auto x = sl.optional("walk")) {
+      const std::string t = x->text("a plain number >= 0 [1/sqrt(s)] such as 0.001");
+      const auto n = parse_number(t);
+      if (!n || *n < 0.0) {
+        x->fail("expected a plain number >= 0 [1/sqrt(s)] such as 0.001, got " + quoted(t));
+      }
+      c.slip.walk_std = *n;
+    }
+  }
+  if (auto v = m.optional("errors")) {
+    const MapReader e(*v, {"speed"});
+    if (auto x = e.optional("speed")) {
+      c.speed_std_radps = x->quantity(Dimension::kAngularRate, Bound::kNonNegative);
+    }
+  }
+  d.wheels = std::make_shared<const emulators::WheelEncoderConfig>(c);
+}
+
+}  // namespace
+}  // namespace nav::bench::detail

@@ -85,11 +85,32 @@ void write_summary(const RunRecord& r, const std::string& dir) {
   j["bench_lateness"]["budget_p99_ms"] = r.lateness_budget_p99_s * 1e3;
   j["dut_latency"] = stats_json(r.dut_latency);
   for (const auto& d : r.devices) {
+    if (d.can) {
+      j["devices"].push_back({{"name", d.name},
+                              {"type", d.type},
+                              {"can", d.port},
+                              {"bitrate", d.baud},
+                              {"seed", d.seed},
+                              {"frames", d.messages},
+                              {"frames_dropped", d.frames_dropped},
+                              {"bytes", d.bytes}});
+      continue;
+    }
     j["devices"].push_back({{"name", d.name},        {"type", d.type},
                             {"port", d.port},        {"baud", d.baud}, {"seed", d.seed},
                             {"messages", d.messages}, {"bytes", d.bytes},
                             {"bytes_dropped", d.bytes_dropped},
                             {"suppressed", d.suppressed}});
+  }
+  for (const auto& b : r.can_buses) {
+    j["can_buses"].push_back({{"interface", b.interface},
+                              {"bitrate", b.bitrate_bps},
+                              {"frames_sent", b.frames_sent},
+                              {"frames_dropped", b.frames_dropped},
+                              {"frame_bits", b.frame_bits},
+                              {"bus_load", b.bus_load},
+                              {"queueing_delay", stats_json(b.queueing_delay)},
+                              {"write_lateness", stats_json(b.write_lateness)}});
   }
   j["faults"] = nlohmann::json::array();
   for (const auto& fr : r.faults) {
@@ -244,6 +265,23 @@ std::string verdict_text(const RunRecord& r) {
     o << "  acoustic " << l.from << " -> " << l.to << ": " << l.packets_delivered << " of "
       << l.packets_sent << " packets delivered, " << l.packets_lost << " lost, "
       << l.packets_out_of_range << " out of range\n";
+  }
+  for (const auto& b : r.can_buses) {
+    std::snprintf(line, sizeof line,
+                  "  CAN %s %g kbit/s: %zu frames (%zu dropped), bus load %.2f %%, queueing "
+                  "p50 %.3f ms p99 %.3f ms max %.3f ms\n",
+                  b.interface.c_str(), b.bitrate_bps / 1e3, b.frames_sent, b.frames_dropped,
+                  b.bus_load * 100.0, b.queueing_delay.p50_s * 1e3, b.queueing_delay.p99_s * 1e3,
+                  b.queueing_delay.max_s * 1e3);
+    o << line;
+    if (b.write_lateness.count > 0) {
+      std::snprintf(line, sizeof line,
+                    "  CAN %s write lateness  p50 %.3f ms  p99 %.3f ms  max %.3f ms  (%zu frames)\n",
+                    b.interface.c_str(), b.write_lateness.p50_s * 1e3,
+                    b.write_lateness.p99_s * 1e3, b.write_lateness.max_s * 1e3,
+                    b.write_lateness.count);
+      o << line;
+    }
   }
   for (const auto& c : r.checks) {
     const char* tag = !c.judged ? "SKIP" : c.passed ? "PASS" : "FAIL";

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -16,18 +17,30 @@
 #include "nav/emulators/ebimu_emulator.hpp"
 #include "nav/emulators/faults.hpp"
 #include "nav/emulators/keller_emulator.hpp"
+#include "nav/emulators/nmea2000_emulator.hpp"
 #include "nav/emulators/usbl_emulator.hpp"
 #include "nav/emulators/truth.hpp"
+
+// Held by pointer: their headers bring <filesystem> (and with it std::quoted) into every
+// includer of this header.
+namespace nav::emulators {
+struct WheelEncoderConfig;
+}
+namespace nav::protocols::wheel_encoder {
+class WheelEncoderCodec;
+}
 
 namespace nav::bench {
 
 enum class TimeMode { kRealtime, kLockstep };
 
-/// One emulated device on its own serial line.
+/// One emulated device on its own serial line, or on the vehicle's CAN bus (vehicle.can).
 struct DeviceSpec {
   enum class Type {
     kMicrostrainGx3, kNmeaGps, kDvl, kEbimu, kEvologicsUsbl, kKeller,
-    kAcousticModem  ///< a node of the scenario's acoustic channel (no stream of its own)
+    kAcousticModem,  ///< a node of the scenario's acoustic channel (no stream of its own)
+    kNmea2000,       ///< NMEA 2000 navigation device on the CAN bus
+    kWheelEncoders   ///< the two wheel encoders on the CAN bus, frames laid out by a DBC
   };
   std::string name;     ///< unique in its vehicle; used in "{port:NAME}" and captures
   Type type = Type::kMicrostrainGx3;
@@ -43,6 +56,15 @@ struct DeviceSpec {
   emulators::UsblConfig usbl;    ///< when type == kEvologicsUsbl
   /// when type == kKeller: a polled device, it sends only answers to the DUT's requests
   emulators::KellerConfig keller;
+  /// when type == kNmea2000 (datum and seabed filled from the scenario)
+  emulators::Nmea2000Config n2k;
+  /// when type == kWheelEncoders: the drive (wheel_encoder_emulator.hpp), and the codec
+  /// checked against the DBC at load time
+  std::shared_ptr<const emulators::WheelEncoderConfig> wheels;
+  std::string dbc_path;  ///< kWheelEncoders: the DBC file, resolved (absolute or as written)
+  std::shared_ptr<const protocols::wheel_encoder::WheelEncoderCodec> wheel_codec;
+  /// A device on the vehicle's CAN bus: no serial line (port and baud unused).
+  bool on_can() const { return type == Type::kNmea2000 || type == Type::kWheelEncoders; }
   /// Faults applied to the encoded stream (for a Keller: to its answers), in file order
   /// (windows inside [0, duration)). Measurement faults live in the type's config.
   std::vector<emulators::FaultSpec> faults;
@@ -85,6 +107,12 @@ struct PeerSpec {
   std::vector<std::string> segment_locations;  ///< as Scenario::segment_locations
 };
 
+/// The primary vehicle's CAN bus (vehicle.can).
+struct CanBusSpec {
+  std::string interface;        ///< SocketCAN interface, e.g. vcan0 or can0
+  double bitrate_bps = 250000;  ///< nominal bit rate [bit/s]
+};
+
 struct Scenario {
   std::string file;          ///< path it was loaded from
   std::string name;
@@ -95,6 +123,7 @@ struct Scenario {
   geodesy::Geodetic datum;
   std::string vehicle_name = "vehicle";
   std::optional<double> seabed_depth_m;  ///< vehicle.seabed: flat seabed depth [m] (DVLs)
+  std::optional<CanBusSpec> can;         ///< vehicle.can: the bus of its CAN devices
   emulators::TrajectorySpec trajectory;
   std::vector<DeviceSpec> devices;
   DutSpec dut;

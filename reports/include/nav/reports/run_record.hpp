@@ -70,6 +70,24 @@ struct DeviceRow {
   std::size_t messages = 0, bytes = 0, bytes_dropped = 0;
   /// Messages not written because the device was not streaming (a GX3 not yet told to).
   std::size_t suppressed = 0;
+  /// A device on the vehicle's CAN bus: port is the interface, baud the bus bit rate,
+  /// messages the frames sent, bytes their data bytes, bytes_dropped those of frames the
+  /// interface refused (frames_dropped of them).
+  bool can = false;
+  std::size_t frames_dropped = 0;
+};
+
+/// One CAN bus of the run (scenario vehicle.can).
+struct CanBusRow {
+  std::string interface;         ///< e.g. "vcan0"
+  double bitrate_bps = 0.0;      ///< [bit/s]
+  std::size_t frames_sent = 0;   ///< written to the interface
+  std::size_t frames_dropped = 0;  ///< refused by the interface (transmit queue full)
+  std::uint64_t frame_bits = 0;  ///< sum of every scheduled frame's bit length, stuffing worst
+                                 ///< case and interframe space included [bit]
+  double bus_load = 0.0;         ///< busy fraction of [0, duration) (can_bus_load) [-]
+  Stats queueing_delay;          ///< slot start - ready time, per frame [s]
+  Stats write_lateness;          ///< realtime: actual write - scheduled time (count 0 in lockstep)
 };
 
 /// What one scheduled fault of a device did (emulators::FaultRecord plus the device).
@@ -123,6 +141,7 @@ struct RunRecord {
   std::vector<LatenessRow> lateness;
   std::vector<PeerRow> peers;             ///< empty for a single-vehicle scenario
   std::vector<ModemLinkRow> modem_links;  ///< every directed link between two modems
+  std::vector<CanBusRow> can_buses;       ///< empty without vehicle.can
   double wall_time_s = 0.0;         ///< how long the run took
 };
 
