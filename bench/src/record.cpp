@@ -13,6 +13,8 @@
 #include <filesystem>
 #include <ctime>
 #include <memory>
+#include <optional>
+#include <vector>
 
 #include "nav/bench/capture.hpp"
 #include "nav/bench/replay.hpp"
@@ -69,6 +71,89 @@ bool finish_file(std::unique_ptr<std::FILE, int (*)(std::FILE*)>& f, bool write_
   return true;
 }
 
+/// Opens the .partial file a record writes; null (reported) on failure.
+std::unique_ptr<std::FILE, int (*)(std::FILE*)> open_partial(const std::string& partial) {
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(partial.c_str(), "w"), &std::fclose);
+  if (!f) {
+    std::fprintf(stderr, "navbench: record: cannot write %s: %s\n", partial.c_str(),
+                 std::strerror(errno));
+  }
+  return f;
+}
+
+/// SIGINT and SIGTERM set g_stop.
+void stop_on_signals() {
+  struct sigaction sa {};
+  sa.sa_handler = on_record_signal;  // no SA_RESTART: poll() returns EINTR at once
+  ::sigaction(SIGINT, &sa, nullptr);
+  ::sigaction(SIGTERM, &sa, nullptr);
+}
+
+/// A record's output (the .partial until finish_file) and its clock.
+struct Recording {
+  std::string partial;
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> f;
+  Timestamp start;
+  bool bounded;  ///< a --duration was given
+  Timestamp end;
+};
+
+/// Opens the .partial, makes SIGINT and SIGTERM set g_stop and starts the clock; empty
+/// (reported) if the file cannot be opened.
+std::optional<Recording> begin_recording(const RecordOptions& o) {
+  auto f = open_partial(o.out_path + ".partial");
+  if (!f) return std::nullopt;
+  stop_on_signals();
+  const Timestamp start = monotonic_now();
+  return Recording{o.out_path + ".partial", std::move(f), start, o.duration_s > 0.0,
+                   start + from_seconds(o.duration_s)};
+}
+
+/// Prints a record's last line: `parts` (per port), then "; TOTAL UNIT in S s -> OUT".
+void print_summary(std::string parts, std::size_t total, const char* unit, double elapsed,
+                   const std::string& out_path) {
+  char tail[160];
+  std::snprintf(tail, sizeof tail, "; %zu %s in %.2f s%s -> ", total, unit, elapsed,
+                g_stop ? " (stopped by signal)" : "");
+  parts += tail + out_path;
+  std::printf("%s\n", parts.c_str());
+  std::fflush(stdout);
+}
+
+/// The record loop of serial ports and CAN interfaces alike: polls the ports still open (empty
+/// `closed`) in slices of at most kPollSlice until `end` (if `bounded`), a signal, every port
+/// closed, or a write error on `f`; `read_ready(port)` reads a port poll() found readable.
+/// True if writing `f` failed.
+template <class P, class ReadReady>
+bool poll_ports(std::vector<P>& ports, int (*fd_of)(const P&), std::FILE* f, bool bounded,
+                Timestamp end, ReadReady read_ready) {
+  std::vector<pollfd> fds;
+  std::vector<std::size_t> which;
+  for (;;) {
+    if (g_stop) return false;
+    const Timestamp now = monotonic_now();
+    if (bounded && now >= end) return false;
+    fds.clear();
+    which.clear();
+    for (std::size_t i = 0; i < ports.size(); ++i) {
+      if (!ports[i].closed.empty()) continue;
+      fds.push_back(pollfd{fd_of(ports[i]), POLLIN, 0});
+      which.push_back(i);
+    }
+    if (fds.empty()) return false;  // every port hung up or failed
+    Duration wait = kPollSlice;
+    if (bounded) wait = std::min(wait, end - now);
+    const int timeout_ms =
+        static_cast<int>(std::max<std::int64_t>(1, (wait.count() + 999'999) / 1'000'000));
+    const int r = ::poll(fds.data(), fds.size(), timeout_ms);
+    if (r <= 0) continue;  // timeout or EINTR
+    for (std::size_t k = 0; k < fds.size(); ++k) {
+      if (fds[k].revents != 0) read_ready(ports[which[k]]);
+    }
+    if (std::ferror(f)) return true;
+  }
+}
+
 /// `record --can IFACE...`: a candump -l log of the frames received on the interfaces.
 int record_can(const RecordOptions& o) {
   std::vector<CanPort> ports;
@@ -88,83 +173,46 @@ int record_can(const RecordOptions& o) {
     width = std::max(width, name.size());
     ports.push_back(CanPort{std::move(*s), 0, {}});
   }
-  const std::string partial = o.out_path + ".partial";
-  std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(partial.c_str(), "w"), &std::fclose);
-  if (!f) {
-    std::fprintf(stderr, "navbench: record: cannot write %s: %s\n", partial.c_str(),
-                 std::strerror(errno));
-    return kExitBench;
-  }
-  struct sigaction sa {};
-  sa.sa_handler = on_record_signal;  // no SA_RESTART: poll() returns EINTR at once
-  ::sigaction(SIGINT, &sa, nullptr);
-  ::sigaction(SIGTERM, &sa, nullptr);
-
-  const Timestamp start = monotonic_now();
-  const bool bounded = o.duration_s > 0.0;
-  const Timestamp end = start + from_seconds(o.duration_s);
+  auto session = begin_recording(o);
+  if (!session) return kExitBench;
+  auto& [partial, f, start, bounded, end] = *session;
   for (const auto& p : ports) std::printf("recording CAN %s\n", p.socket.ifname().c_str());
   std::printf("recording to %s%s\n", o.out_path.c_str(), bounded ? "" : " until SIGINT/SIGTERM");
   std::fflush(stdout);
 
   namespace cd = protocols::candump;
-  std::vector<pollfd> fds;
-  std::vector<std::size_t> which;
-  bool write_failed = false;
-  for (;;) {
-    if (g_stop) break;
-    const Timestamp now = monotonic_now();
-    if (bounded && now >= end) break;
-    fds.clear();
-    which.clear();
-    for (std::size_t i = 0; i < ports.size(); ++i) {
-      if (!ports[i].closed.empty()) continue;
-      fds.push_back(pollfd{ports[i].socket.fd(), POLLIN, 0});
-      which.push_back(i);
-    }
-    if (fds.empty()) break;  // every interface failed
-    Duration wait = kPollSlice;
-    if (bounded) wait = std::min(wait, end - now);
-    const int timeout_ms =
-        static_cast<int>(std::max<std::int64_t>(1, (wait.count() + 999'999) / 1'000'000));
-    const int r = ::poll(fds.data(), fds.size(), timeout_ms);
-    if (r <= 0) continue;  // timeout or EINTR
-    for (std::size_t k = 0; k < fds.size(); ++k) {
-      if (fds[k].revents == 0) continue;
-      CanPort& p = ports[which[k]];
-      for (;;) {
-        auto got = p.socket.receive();
-        if (!got) {
-          p.closed = got.error().detail;
-          std::fprintf(stderr, "navbench: record: %s; stopped reading it\n", p.closed.c_str());
-          break;
+  const bool write_failed = poll_ports(
+      ports, +[](const CanPort& p) { return p.socket.fd(); }, f.get(), bounded, end,
+      [&](CanPort& p) {
+        for (;;) {
+          auto got = p.socket.receive();
+          if (!got) {
+            p.closed = got.error().detail;
+            std::fprintf(stderr, "navbench: record: %s; stopped reading it\n", p.closed.c_str());
+            break;
+          }
+          if (!got->has_value()) break;
+          const auto& rx = **got;
+          const std::chrono::nanoseconds t = rx.kernel_time.value_or(realtime_now());
+          cd::Record rec;
+          const std::int64_t ns = t.count();
+          rec.time = cd::Timestamp{static_cast<std::uint64_t>(ns / 1'000'000'000),
+                                   static_cast<std::uint32_t>(ns % 1'000'000'000 / 1000 * 1000),
+                                   6, 10};
+          rec.interface = p.socket.ifname();
+          rec.frame.id = rx.frame.id;
+          rec.frame.extended = rx.frame.extended;
+          rec.frame.rtr = rx.frame.rtr;
+          rec.frame.dlc = rx.frame.dlc;
+          rec.frame.data = rx.frame.data;
+          for (std::size_t b = rx.frame.rtr ? 0 : rx.frame.dlc; b < rec.frame.data.size(); ++b) {
+            rec.frame.data[b] = 0;
+          }
+          const std::string line = cd::format_line(rec, width) + "\n";
+          std::fputs(line.c_str(), f.get());
+          ++p.frames;
         }
-        if (!got->has_value()) break;
-        const auto& rx = **got;
-        const std::chrono::nanoseconds t = rx.kernel_time.value_or(realtime_now());
-        cd::Record rec;
-        rec.time = cd::Timestamp{static_cast<std::uint64_t>(t.count() / 1'000'000'000),
-                                 static_cast<std::uint32_t>(t.count() % 1'000'000'000 / 1000 * 1000),
-                                 6, 10};
-        rec.interface = p.socket.ifname();
-        rec.frame.id = rx.frame.id;
-        rec.frame.extended = rx.frame.extended;
-        rec.frame.rtr = rx.frame.rtr;
-        rec.frame.dlc = rx.frame.dlc;
-        rec.frame.data = rx.frame.data;
-        for (std::size_t b = rx.frame.rtr ? 0 : rx.frame.dlc; b < rec.frame.data.size(); ++b) {
-          rec.frame.data[b] = 0;
-        }
-        const std::string line = cd::format_line(rec, width) + "\n";
-        std::fputs(line.c_str(), f.get());
-        ++p.frames;
-      }
-    }
-    if (std::ferror(f.get())) {
-      write_failed = true;
-      break;
-    }
-  }
+      });
   const double elapsed = to_seconds(monotonic_now() - start);
   if (!finish_file(f, write_failed, partial, o.out_path)) return kExitBench;
 
@@ -176,12 +224,7 @@ int record_can(const RecordOptions& o) {
     s += (i ? ", " : "") + p.socket.ifname() + " " + std::to_string(p.frames) + " frames" +
          (p.closed.empty() ? "" : " (failed)");
   }
-  char tail[160];
-  std::snprintf(tail, sizeof tail, "; %zu frames in %.2f s%s -> ", total, elapsed,
-                g_stop ? " (stopped by signal)" : "");
-  s += tail + o.out_path;
-  std::printf("%s\n", s.c_str());
-  std::fflush(stdout);
+  print_summary(s, total, "frames", elapsed, o.out_path);
   return kExitPass;
 }
 
@@ -242,23 +285,9 @@ int record_ports(const RecordOptions& o) {
     ports.push_back(Port{m.name, std::move(*s), 0, 0, {}});
   }
 
-  namespace fs = std::filesystem;
-  const std::string partial = o.out_path + ".partial";
-  std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(partial.c_str(), "w"), &std::fclose);
-  if (!f) {
-    std::fprintf(stderr, "navbench: record: cannot write %s: %s\n", partial.c_str(),
-                 std::strerror(errno));
-    return kExitBench;
-  }
-
-  struct sigaction sa {};
-  sa.sa_handler = on_record_signal;  // no SA_RESTART: poll() returns EINTR at once
-  ::sigaction(SIGINT, &sa, nullptr);
-  ::sigaction(SIGTERM, &sa, nullptr);
-
-  const Timestamp start = monotonic_now();
-  const bool bounded = o.duration_s > 0.0;
-  const Timestamp end = start + from_seconds(o.duration_s);
+  auto session = begin_recording(o);
+  if (!session) return kExitBench;
+  auto& [partial, f, start, bounded, end] = *session;
   for (const auto& p : ports) {
     std::printf("recording %s (%s @ %d)\n", p.name.c_str(), p.serial.path().c_str(),
                 p.serial.baud());
@@ -267,51 +296,25 @@ int record_ports(const RecordOptions& o) {
               bounded ? "" : " until SIGINT/SIGTERM");
   std::fflush(stdout);
 
-  std::vector<pollfd> fds;
-  std::vector<std::size_t> which;
   std::uint8_t buf[4096];
-  bool write_failed = false;
-  for (;;) {
-    if (g_stop) break;
-    Timestamp now = monotonic_now();
-    if (bounded && now >= end) break;
-    fds.clear();
-    which.clear();
-    for (std::size_t i = 0; i < ports.size(); ++i) {
-      if (!ports[i].closed.empty()) continue;
-      fds.push_back(pollfd{ports[i].serial.fd(), POLLIN, 0});
-      which.push_back(i);
-    }
-    if (fds.empty()) break;  // every port hung up
-    Duration wait = kPollSlice;
-    if (bounded) wait = std::min(wait, end - now);
-    const int timeout_ms =
-        static_cast<int>(std::max<std::int64_t>(1, (wait.count() + 999'999) / 1'000'000));
-    const int r = ::poll(fds.data(), fds.size(), timeout_ms);
-    if (r <= 0) continue;  // timeout or EINTR
-    for (std::size_t k = 0; k < fds.size(); ++k) {
-      if (fds[k].revents == 0) continue;
-      Port& p = ports[which[k]];
-      for (;;) {
-        auto n = p.serial.read_some(buf);
-        if (!n) {
-          p.closed = n.error().detail;
-          std::fprintf(stderr, "navbench: record: port '%s': %s; stopped reading it\n",
-                       p.name.c_str(), p.closed.c_str());
-          break;
+  const bool write_failed = poll_ports(
+      ports, +[](const Port& p) { return p.serial.fd(); }, f.get(), bounded, end,
+      [&](Port& p) {
+        for (;;) {
+          auto n = p.serial.read_some(buf);
+          if (!n) {
+            p.closed = n.error().detail;
+            std::fprintf(stderr, "navbench: record: port '%s': %s; stopped reading it\n",
+                         p.name.c_str(), p.closed.c_str());
+            break;
+          }
+          if (*n == 0) break;
+          const Timestamp rx = monotonic_now();
+          write_capture_line(f.get(), rx - start, p.name, std::span(buf, *n));
+          p.bytes += *n;
+          ++p.reads;
         }
-        if (*n == 0) break;
-        const Timestamp rx = monotonic_now();
-        write_capture_line(f.get(), rx - start, p.name, std::span(buf, *n));
-        p.bytes += *n;
-        ++p.reads;
-      }
-    }
-    if (std::ferror(f.get())) {
-      write_failed = true;
-      break;
-    }
-  }
+      });
   const double elapsed = to_seconds(monotonic_now() - start);
 
   // Every exit path from here: flush, close, rename (or report and keep the .partial).
@@ -325,12 +328,7 @@ int record_ports(const RecordOptions& o) {
     s += (i ? ", " : "") + p.name + " " + std::to_string(p.bytes) + " bytes (" +
          std::to_string(p.reads) + " reads" + (p.closed.empty() ? "" : ", hung up") + ")";
   }
-  char tail[160];
-  std::snprintf(tail, sizeof tail, "; %zu bytes in %.2f s%s -> ", total, elapsed,
-                g_stop ? " (stopped by signal)" : "");
-  s += tail + o.out_path;
-  std::printf("%s\n", s.c_str());
-  std::fflush(stdout);
+  print_summary(s, total, "bytes", elapsed, o.out_path);
   return kExitPass;
 }
 

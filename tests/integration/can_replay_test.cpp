@@ -46,6 +46,7 @@
 #include "nav/protocols/nmea2000.hpp"
 #include "nav/transport/can_socket.hpp"
 #include "../unit/navd/navd_pty_harness.hpp"
+#include "can_test_support.hpp"
 
 namespace nav::testing {
 namespace {
@@ -59,37 +60,14 @@ using transport::CanSocket;
 
 constexpr const char* kIface = "vcan0";
 
-bool running_in_ci() {
-  const char* ci = std::getenv("CI");
-  if (ci == nullptr) return false;
-  std::string v(ci);
-  std::transform(v.begin(), v.end(), v.begin(), [](unsigned char c) { return std::tolower(c); });
-  return v == "true" || v == "1";
-}
+using test_support::Heard;
+using test_support::program_on_path;
+using test_support::receive_frames;
+using test_support::to_socket;
 
-bool program_on_path(const std::string& name) {
-  const char* path = std::getenv("PATH");
-  std::string dirs = path != nullptr ? path : "/usr/bin:/bin";
-  std::size_t start = 0;
-  while (start <= dirs.size()) {
-    const std::size_t end = std::min(dirs.find(':', start), dirs.size());
-    if (::access((dirs.substr(start, end - start) + "/" + name).c_str(), X_OK) == 0) return true;
-    start = end + 1;
-  }
-  return false;
-}
-
-#define REQUIRE_OR_SKIP(cond, why)                                       \
-  do {                                                                   \
-    if (!(cond)) {                                                       \
-      if (running_in_ci()) FAIL() << (why) << " (CI=true: not skipped)"; \
-      GTEST_SKIP() << (why);                                             \
-    }                                                                    \
-  } while (0)
-
-#define REQUIRE_VCAN()                                                                \
-  REQUIRE_OR_SKIP(::if_nametoindex(kIface) != 0,                                      \
-                  "no vcan0 here: run through scripts/with-vcan (ctest -L vcan)");     \
+// vcan0 and the can-utils that play logs onto it (cansend, canplayer).
+#define REQUIRE_VCAN_AND_PLAYER()                                                     \
+  REQUIRE_VCAN();                                                                     \
   REQUIRE_OR_SKIP(program_on_path("cansend") && program_on_path("canplayer"),         \
                   "can-utils (cansend, canplayer) not installed: run scripts/setup")
 
@@ -193,43 +171,6 @@ CanFrame make_frame(std::uint32_t id, bool extended, std::vector<std::uint8_t> d
   return f;
 }
 
-CanFrame to_socket(const protocols::can::Frame& f) {
-  CanFrame out;
-  out.id = f.id;
-  out.extended = f.extended;
-  out.rtr = f.rtr;
-  out.dlc = static_cast<std::uint8_t>(f.length());
-  out.data = f.data;
-  return out;
-}
-
-struct Heard {
-  CanFrame frame;
-  double t_s = 0;  ///< kernel receive time [s since the epoch]
-};
-
-/// Receives until `count` frames arrived or `timeout_s` passed.
-std::vector<Heard> receive_frames(CanSocket& socket, std::size_t count, double timeout_s) {
-  std::vector<Heard> got;
-  const auto deadline = Clock::now() + std::chrono::duration<double>(timeout_s);
-  while (got.size() < count && Clock::now() < deadline) {
-    auto r = socket.receive();
-    if (!r) {
-      ADD_FAILURE() << r.error().detail;
-      break;
-    }
-    if (r->has_value()) {
-      const auto& rx = **r;
-      got.push_back({rx.frame, rx.kernel_time ? static_cast<double>(rx.kernel_time->count()) * 1e-9
-                                              : 0.0});
-      continue;
-    }
-    pollfd p{socket.fd(), POLLIN, 0};
-    (void)::poll(&p, 1, 50);
-  }
-  return got;
-}
-
 /// The frame lines of a candump log (every other line must be blank).
 std::vector<cd::Record> read_log(const fs::path& p) {
   std::vector<cd::Record> out;
@@ -263,7 +204,7 @@ std::string log_line(double t_s, const std::string& iface, const CanFrame& f) {
 
 // (a) record --can vcan0 while cansend writes; the log is candump -l that canplayer replays.
 TEST(NavbenchCanRecord, RecordsCansendFramesAndCanplayerReplaysTheLog) {
-  REQUIRE_VCAN();
+  REQUIRE_VCAN_AND_PLAYER();
   const auto dir = fresh_dir("can-record");
   Child rec = Child::spawn({std::string(NAV_BINARY_DIR) + "/navbench", "record", "--can", kIface,
                             "--duration", "2.5", "--out", "rec.log"},
@@ -351,7 +292,7 @@ TEST(NavbenchCanRecord, RecordsCansendFramesAndCanplayerReplaysTheLog) {
 }
 
 TEST(NavbenchCanRecord, StopsCleanlyOnSigterm) {
-  REQUIRE_VCAN();
+  REQUIRE_VCAN_AND_PLAYER();
   const auto dir = fresh_dir("can-record-term");
   Child rec = Child::spawn({std::string(NAV_BINARY_DIR) + "/navbench", "record", "--can", kIface,
                             "-o", "rec.log"},
@@ -372,7 +313,7 @@ TEST(NavbenchCanRecord, StopsCleanlyOnSigterm) {
 
 // (b) replay of a candump log with known gaps onto vcan0 (interface mapped), timing kept.
 TEST(NavbenchCanReplay, ReproducesTheFramesAndTheirGaps) {
-  REQUIRE_VCAN();
+  REQUIRE_VCAN_AND_PLAYER();
   const auto dir = fresh_dir("can-replay");
   const std::vector<CanFrame> frames{
       make_frame(0x100, false, {0x01}),
@@ -434,7 +375,7 @@ TEST(NavbenchCanReplay, ReproducesTheFramesAndTheirGaps) {
 
 // --dut works with a candump log: here candump itself is the DUT, {can:LOGNAME} its interface.
 TEST(NavbenchCanReplay, StartsADutWithTheCanInterfaceInItsArguments) {
-  REQUIRE_VCAN();
+  REQUIRE_VCAN_AND_PLAYER();
   REQUIRE_OR_SKIP(program_on_path("candump"), "candump (can-utils) not installed");
   const auto dir = fresh_dir("can-replay-dut");
   {
@@ -456,7 +397,7 @@ TEST(NavbenchCanReplay, StartsADutWithTheCanInterfaceInItsArguments) {
 
 // (c) canplayer replays a candump log of N2K frames into navd --can vcan0, which counts them.
 TEST(NavbenchCanReplay, CanplayerFeedsNavdWhichCountsTheN2kFrames) {
-  REQUIRE_VCAN();
+  REQUIRE_VCAN_AND_PLAYER();
   constexpr double kLatDeg = 36.3833;
   const auto dir = fresh_dir("can-navd");
   std::vector<CanFrame> frames;

@@ -39,6 +39,7 @@
 
 #include "nav/bench/can_schedule.hpp"
 #include "nav/protocols/candump_log.hpp"
+#include "can_test_support.hpp"
 #include "navbench_cli.hpp"
 
 namespace nav::testing {
@@ -50,35 +51,10 @@ namespace candump = protocols::candump;
 constexpr double kDurationS = 20.0;
 constexpr double kBitrate = 250000.0;
 
-bool running_in_ci() {
-  const char* ci = std::getenv("CI");
-  if (ci == nullptr) return false;
-  std::string v(ci);
-  std::transform(v.begin(), v.end(), v.begin(), [](unsigned char c) { return std::tolower(c); });
-  return v == "true" || v == "1";
-}
-
+/// A program in $PATH or in /usr/sbin, /sbin; empty if none.
 std::string find_program(const std::string& name) {
-  const char* path = std::getenv("PATH");
-  std::string dirs = path != nullptr ? path : "/usr/bin:/bin";
-  dirs += ":/usr/sbin:/sbin";
-  std::size_t start = 0;
-  while (start <= dirs.size()) {
-    const std::size_t end = std::min(dirs.find(':', start), dirs.size());
-    const std::string p = dirs.substr(start, end - start) + "/" + name;
-    if (::access(p.c_str(), X_OK) == 0) return p;
-    start = end + 1;
-  }
-  return {};
+  return test_support::find_program(name, ":/usr/sbin:/sbin");
 }
-
-#define REQUIRE_OR_SKIP(cond, why)                                       \
-  do {                                                                   \
-    if (!(cond)) {                                                       \
-      if (running_in_ci()) FAIL() << (why) << " (CI=true: not skipped)"; \
-      GTEST_SKIP() << (why);                                             \
-    }                                                                    \
-  } while (0)
 
 std::string scenario() { return source_path("scenarios/mixed-can-serial.yaml"); }
 

@@ -37,6 +37,7 @@
 #include "nav/protocols/nmea2000.hpp"
 #include "nav/protocols/wheel_encoder.hpp"
 #include "nav/transport/can_socket.hpp"
+#include "can_test_support.hpp"
 #include "navd_pty_harness.hpp"
 
 namespace nav::testing {
@@ -53,44 +54,9 @@ constexpr double kLatDeg = 36.3833;
 
 std::string crawler_dbc() { return std::string(NAV_SOURCE_DIR) + "/fixtures/crawler.dbc"; }
 
-bool running_in_ci() {
-  const char* ci = std::getenv("CI");
-  if (ci == nullptr) return false;
-  std::string v(ci);
-  std::transform(v.begin(), v.end(), v.begin(), [](unsigned char c) { return std::tolower(c); });
-  return v == "true" || v == "1";
-}
-
-bool program_on_path(const std::string& name) {
-  const char* path = std::getenv("PATH");
-  std::string dirs = path != nullptr ? path : "/usr/bin:/bin";
-  std::size_t start = 0;
-  while (start <= dirs.size()) {
-    const std::size_t end = std::min(dirs.find(':', start), dirs.size());
-    if (::access((dirs.substr(start, end - start) + "/" + name).c_str(), X_OK) == 0) return true;
-    start = end + 1;
-  }
-  return false;
-}
-
-#define REQUIRE_OR_SKIP(cond, why)                                       \
-  do {                                                                   \
-    if (!(cond)) {                                                       \
-      if (running_in_ci()) FAIL() << (why) << " (CI=true: not skipped)"; \
-      GTEST_SKIP() << (why);                                             \
-    }                                                                    \
-  } while (0)
-
-/// The SocketCAN frame of a codec frame.
-CanFrame to_socket(const protocols::can::Frame& f) {
-  CanFrame out;
-  out.id = f.id;
-  out.extended = f.extended;
-  out.rtr = f.rtr;
-  out.dlc = static_cast<std::uint8_t>(f.length());
-  out.data = f.data;
-  return out;
-}
+using test_support::program_on_path;
+using test_support::receive_frames;
+using test_support::to_socket;
 
 CanFrame to_socket(const protocols::dbc::Frame& f) {
   CanFrame out;
@@ -126,26 +92,6 @@ int run_program(const std::vector<std::string>& argv_strings,
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
   return status;
-}
-
-/// Receives `count` frames on `socket` (bounded: 5 s); how many arrived.
-std::size_t receive_frames(CanSocket& socket, std::size_t count) {
-  std::size_t got = 0;
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(5);
-  while (got < count && std::chrono::steady_clock::now() < deadline) {
-    auto r = socket.receive();
-    if (!r) {
-      ADD_FAILURE() << r.error().detail;
-      break;
-    }
-    if (r->has_value()) {
-      ++got;
-      continue;
-    }
-    pollfd p{socket.fd(), POLLIN, 0};
-    (void)::poll(&p, 1, 50);
-  }
-  return got;
 }
 
 n2k::GnssPositionData gnss(double lat_deg, double lon_deg) {
@@ -265,7 +211,7 @@ TEST(NavdCanVcan, DecodesAndCountsWhatIsSentOnTheBus) {
   EXPECT_EQ(run_program({"cansend", kIface, "09F11201#005C3DFF7FFF7FFC"}), 0);
   EXPECT_EQ(run_program({"cansend", kIface, "120#E8030000DC051300"}), 0);
   const std::size_t total = frames.size() + 2;
-  ASSERT_EQ(receive_frames(*listener, total), total) << "the bus did not carry every frame";
+  ASSERT_EQ(receive_frames(*listener, total, 5.0).size(), total) << "the bus did not carry every frame";
 
   // One more trigger: navd reads the CAN socket in the wake that brings it (or earlier).
   std::this_thread::sleep_for(std::chrono::milliseconds(50));

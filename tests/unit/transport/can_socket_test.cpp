@@ -37,6 +37,7 @@
 
 #include <gtest/gtest.h>
 
+#include "can_test_support.hpp"
 #include "nav/transport/can_socket.hpp"
 
 extern char** environ;
@@ -49,38 +50,7 @@ using namespace std::chrono_literals;
 constexpr const char* kIface = "vcan0";
 constexpr auto kWait = 2s;  ///< bound on every wait for a frame or a log line
 
-bool running_in_ci() {
-  const char* ci = std::getenv("CI");
-  if (ci == nullptr) return false;
-  std::string v(ci);
-  std::transform(v.begin(), v.end(), v.begin(), [](unsigned char c) { return std::tolower(c); });
-  return v == "true" || v == "1";
-}
-
-bool program_on_path(const std::string& name) {
-  const char* path = std::getenv("PATH");
-  std::string dirs = path != nullptr ? path : "/usr/bin:/bin";
-  std::size_t start = 0;
-  while (start <= dirs.size()) {
-    const std::size_t end = std::min(dirs.find(':', start), dirs.size());
-    const std::string candidate = dirs.substr(start, end - start) + "/" + name;
-    if (::access(candidate.c_str(), X_OK) == 0) return true;
-    start = end + 1;
-  }
-  return false;
-}
-
-#define REQUIRE_OR_SKIP(cond, why)                                              \
-  do {                                                                          \
-    if (!(cond)) {                                                              \
-      if (running_in_ci()) FAIL() << (why) << " (CI=true: not skipped)";        \
-      GTEST_SKIP() << (why);                                                    \
-    }                                                                           \
-  } while (0)
-
-#define REQUIRE_VCAN()                                                                 \
-  REQUIRE_OR_SKIP(::if_nametoindex(kIface) != 0,                                       \
-                  "no vcan0 here: run through scripts/with-vcan (ctest -L vcan)")
+using test_support::program_on_path;
 
 std::string describe(const CanFrame& f) {
   char head[32];
