@@ -12,6 +12,8 @@
 #include "nav/emulators/device.hpp"
 #include "nav/protocols/nmea0183.hpp"
 
+#include "emulator_test_support.hpp"
+
 namespace nav::emulators {
 namespace {
 
@@ -67,24 +69,7 @@ TruthTrajectory surface_truth() {
 }
 
 /// Surface run, dive to 5 m, run underwater, surface, long surface run.
-TruthTrajectory diving_truth() {
-  TrajectorySpec spec;
-  spec.max_accel_mps2 = 0.3;
-  Segment run;
-  run.length_m = 10.0;
-  run.speed_mps = 1.0;
-  Segment down;
-  down.kind = Segment::Kind::kDepth;
-  down.depth_change_m = 5.0;
-  down.depth_rate_mps = 0.5;
-  down.speed_mps = 1.0;
-  Segment up = down;
-  up.depth_change_m = -5.0;
-  Segment long_run = run;
-  long_run.length_m = 30.0;
-  spec.segments = {run, down, run, up, long_run};
-  return *TruthTrajectory::build(spec);
-}
+TruthTrajectory diving_truth() { return testing::diving_truth(10.0, 30.0, 0.3); }
 
 TEST(GpsEmulatorExt, VtgHdtZdaFollowGgaRmcAndDecodeToTruth) {
   const GpsConfig cfg = all_sentences_config();

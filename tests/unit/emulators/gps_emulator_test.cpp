@@ -11,6 +11,8 @@
 #include "nav/emulators/device.hpp"
 #include "nav/protocols/nmea0183.hpp"
 
+#include "emulator_test_support.hpp"
+
 namespace nav::emulators {
 namespace {
 
@@ -64,40 +66,10 @@ geodesy::LocalTangentPlane plane(const GpsConfig& cfg) {
 }
 
 /// A surface run with a turn: heading sweeps through several quadrants.
-TruthTrajectory surface_truth() {
-  TrajectorySpec spec;
-  spec.start_p_n = Vec3{-30.0, 12.0, 0.0};
-  spec.start_yaw_rad = deg_to_rad(-100.0);
-  spec.max_accel_mps2 = 0.3;
-  Segment s1;
-  s1.length_m = 20.0;
-  s1.speed_mps = 1.5;
-  Segment s2;
-  s2.kind = Segment::Kind::kArc;
-  s2.radius_m = 15.0;
-  s2.angle_rad = deg_to_rad(270.0);
-  s2.speed_mps = 1.5;
-  spec.segments = {s1, s2};
-  return *TruthTrajectory::build(spec);
-}
+TruthTrajectory surface_truth() { return testing::surface_turn_truth(); }
 
 /// Surface, then a dive to 5 m, a run underwater, and back up.
-TruthTrajectory diving_truth() {
-  TrajectorySpec spec;
-  spec.max_accel_mps2 = 0.3;
-  Segment run;
-  run.length_m = 10.0;
-  run.speed_mps = 1.0;
-  Segment down;
-  down.kind = Segment::Kind::kDepth;
-  down.depth_change_m = 5.0;
-  down.depth_rate_mps = 0.5;
-  down.speed_mps = 1.0;
-  Segment up = down;
-  up.depth_change_m = -5.0;
-  spec.segments = {run, down, run, up, run};
-  return *TruthTrajectory::build(spec);
-}
+TruthTrajectory diving_truth() { return testing::diving_truth(10.0, 10.0, 0.3); }
 
 TEST(GpsEmulator, ZeroNoiseDecodesToTruthWithinNmeaResolution) {
   const GpsConfig cfg = zero_noise_config();

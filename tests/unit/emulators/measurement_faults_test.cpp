@@ -28,6 +28,8 @@
 #include "nav/protocols/rdi_pd6.hpp"
 #include "nav/protocols/waterlinked_a50.hpp"
 
+#include "emulator_test_support.hpp"
+
 namespace nav::emulators {
 namespace {
 
@@ -158,22 +160,7 @@ TEST(MeasurementFaults, RecordCountsMessagesByTimeOfValidity) {
 // ---------- GPS ----------
 
 /// A surface run with a turn (speed 1.5 m/s).
-TruthTrajectory surface_truth() {
-  TrajectorySpec spec;
-  spec.start_p_n = Vec3{-30.0, 12.0, 0.0};
-  spec.start_yaw_rad = deg_to_rad(-100.0);
-  spec.max_accel_mps2 = 0.3;
-  Segment s1;
-  s1.length_m = 20.0;
-  s1.speed_mps = 1.5;
-  Segment s2;
-  s2.kind = Segment::Kind::kArc;
-  s2.radius_m = 15.0;
-  s2.angle_rad = deg_to_rad(270.0);
-  s2.speed_mps = 1.5;
-  spec.segments = {s1, s2};
-  return *TruthTrajectory::build(spec);
-}
+TruthTrajectory surface_truth() { return testing::surface_turn_truth(); }
 
 GpsConfig gps_config(bool noise) {
   GpsConfig cfg;

@@ -101,24 +101,7 @@ TruthTrajectory surface_truth() {
 }
 
 /// Straight at the surface, dive to 5 m, run, climb back to the surface, run.
-TruthTrajectory diving_truth() {
-  TrajectorySpec spec;
-  spec.max_accel_mps2 = 0.5;
-  Segment run;
-  run.length_m = 3.0;
-  run.speed_mps = 1.0;
-  Segment down;
-  down.kind = Segment::Kind::kDepth;
-  down.depth_change_m = 5.0;
-  down.depth_rate_mps = 0.5;
-  down.speed_mps = 1.0;
-  Segment up = down;
-  up.depth_change_m = -5.0;
-  Segment long_run = run;
-  long_run.length_m = 30.0;
-  spec.segments = {run, down, run, up, long_run};
-  return *TruthTrajectory::build(spec);
-}
+TruthTrajectory diving_truth() { return testing::diving_truth(3.0, 30.0, 0.5); }
 
 double angle_diff(double a, double b) { return wrap_pi(a - b); }
 
