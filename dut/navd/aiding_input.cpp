@@ -105,25 +105,35 @@ Result<InputSpec> parse_input_spec(std::string_view text, const std::vector<int>
   InputSpec spec;
   spec.name = std::string(name);
   spec.protocol = entry->protocol;
-  spec.baud = default_baud(spec.protocol);
-  std::string_view path = rest.substr(colon + 1);
-  if (const auto at = path.rfind('@'); at != std::string_view::npos) {
-    const std::string_view baud_text = path.substr(at + 1);
+  auto port = parse_path_baud(rest.substr(colon + 1), bauds, default_baud(spec.protocol));
+  if (!port) return spec_error(text, port.error().detail);
+  spec.path = std::move(port->path);
+  spec.baud = port->baud;
+  return spec;
+}
+
+Result<PortAddress> parse_path_baud(std::string_view text, const std::vector<int>& bauds,
+                                    int default_baud) {
+  PortAddress port{std::string(), default_baud};
+  std::string_view path = text;
+  if (const auto at = text.rfind('@'); at != std::string_view::npos) {
+    const std::string_view baud_text = text.substr(at + 1);
     int baud = 0;
     const auto [end, ec] =
         std::from_chars(baud_text.data(), baud_text.data() + baud_text.size(), baud);
     if (baud_text.empty() || ec != std::errc() || end != baud_text.data() + baud_text.size()) {
-      return spec_error(text, "BAUD '" + std::string(baud_text) + "' is not a number");
+      return fail(ErrorCode::kInvalidArgument,
+                  "BAUD '" + std::string(baud_text) + "' is not a number");
     }
     if (std::find(bauds.begin(), bauds.end(), baud) == bauds.end()) {
-      return spec_error(text, "unsupported BAUD " + std::to_string(baud));
+      return fail(ErrorCode::kInvalidArgument, "unsupported BAUD " + std::to_string(baud));
     }
-    spec.baud = baud;
-    path = path.substr(0, at);
+    port.baud = baud;
+    path = text.substr(0, at);
   }
-  if (path.empty()) return spec_error(text, "empty PATH");
-  spec.path = std::string(path);
-  return spec;
+  if (path.empty()) return fail(ErrorCode::kInvalidArgument, "empty PATH");
+  port.path = std::string(path);
+  return port;
 }
 
 Result<std::vector<InputSpec>> parse_input_specs(const std::vector<std::string>& texts,

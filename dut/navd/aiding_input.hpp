@@ -57,6 +57,18 @@ struct InputSpec {
   int baud = 115200;                            ///< line rate [bit/s]
 };
 
+/// A port as the command line gives it: "PATH[@BAUD]".
+struct PortAddress {
+  std::string path;  ///< tty path, non-empty
+  int baud = 0;      ///< line rate [bit/s]
+};
+
+/// Parses "PATH[@BAUD]" (BAUD after the last '@', one of `bauds`; default_baud without it).
+/// The error detail is the reason only ("BAUD 'x' is not a number", "unsupported BAUD n",
+/// "empty PATH"), for the caller to place in its own message.
+Result<PortAddress> parse_path_baud(std::string_view text, const std::vector<int>& bauds,
+                                    int default_baud);
+
 /// Parses one spec. NAME: 1..32 of [a-z0-9_-], not "ahrs", "gps" or "output"; PROTOCOL one
 /// of protocol_names(); PATH non-empty; BAUD (after the last '@') one of `bauds`. The error
 /// detail is one line naming the spec.

@@ -2,9 +2,9 @@
 #include "modem_link.hpp"
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 
+#include "aiding_input.hpp"
 #include "nav/common/units.hpp"
 #include "nav/protocols/microstrain_gx3.hpp"
 
@@ -21,25 +21,9 @@ tl::unexpected<Error> spec_error(std::string_view text, const std::string& why) 
 }  // namespace
 
 Result<ModemSpec> parse_modem_spec(std::string_view text, const std::vector<int>& bauds) {
-  ModemSpec spec;
-  std::string_view path = text;
-  if (const auto at = text.rfind('@'); at != std::string_view::npos) {
-    const std::string_view baud_text = text.substr(at + 1);
-    int baud = 0;
-    const auto [end, ec] =
-        std::from_chars(baud_text.data(), baud_text.data() + baud_text.size(), baud);
-    if (baud_text.empty() || ec != std::errc() || end != baud_text.data() + baud_text.size()) {
-      return spec_error(text, "BAUD '" + std::string(baud_text) + "' is not a number");
-    }
-    if (std::find(bauds.begin(), bauds.end(), baud) == bauds.end()) {
-      return spec_error(text, "unsupported BAUD " + std::to_string(baud));
-    }
-    spec.baud = baud;
-    path = text.substr(0, at);
-  }
-  if (path.empty()) return spec_error(text, "empty PATH");
-  spec.path = std::string(path);
-  return spec;
+  auto port = parse_path_baud(text, bauds, ModemSpec{}.baud);
+  if (!port) return spec_error(text, port.error().detail);
+  return ModemSpec{std::move(port->path), port->baud};
 }
 
 std::optional<modem::Position> position_report(const estimator::NavSolution& nav,
