@@ -21,6 +21,8 @@
 #include "nav/protocols/rdi_pd6.hpp"
 #include "nav/protocols/waterlinked_a50.hpp"
 
+#include "dvl_decode_support.hpp"
+
 namespace nav::emulators {
 namespace {
 
@@ -88,63 +90,11 @@ void expect_near3(const Vec3& got, const Vec3& want, double tol, const std::stri
 
 // ---------- decoders: one WireMessage -> what a DUT would see ----------
 
-pd0::Ensemble decode_pd0(const WireMessage& m) {
-  const auto r = pd0::parse(m.bytes);
-  EXPECT_EQ(r.status, ParseStatus::kComplete) << r.error;
-  EXPECT_EQ(r.consumed, m.bytes.size());
-  return r.message.value_or(pd0::Ensemble{});
-}
-
-nq1::Nq1 decode_nq1(const WireMessage& m) {
-  const auto r = nq1::parse(m.bytes);
-  EXPECT_EQ(r.status, ParseStatus::kComplete) << r.error;
-  EXPECT_EQ(r.consumed, m.bytes.size());
-  return r.message.value_or(nq1::Nq1{});
-}
-
-a50::VelocityReport decode_a50(const WireMessage& m) {
-  const auto r = a50::parse(m.bytes);
-  EXPECT_EQ(r.status, ParseStatus::kComplete) << r.error;
-  EXPECT_EQ(r.consumed, m.bytes.size());
-  const auto v = a50::decode_velocity(r.message.value_or(a50::Packet{}));
-  EXPECT_TRUE(v.has_value());
-  return v.value_or(a50::VelocityReport{});
-}
-
-struct Pd6Block {
-  pd6::Attitude sa;
-  pd6::TimeAndScaling ts;
-  pd6::InstrumentVelocity bi;
-  pd6::ShipVelocity bs;
-  pd6::EarthVelocity be;
-  pd6::Distance bd;
-};
-
-Pd6Block decode_pd6(const WireMessage& m) {
-  Pd6Block b;
-  ByteSpan rest(m.bytes);
-  int n = 0;
-  while (!rest.empty()) {
-    const auto r = pd6::parse(rest);
-    EXPECT_EQ(r.status, ParseStatus::kComplete) << r.error;
-    if (r.status != ParseStatus::kComplete) break;
-    std::visit(
-        [&](const auto& line) {
-          using T = std::decay_t<decltype(line)>;
-          if constexpr (std::is_same_v<T, pd6::Attitude>) b.sa = line;
-          if constexpr (std::is_same_v<T, pd6::TimeAndScaling>) b.ts = line;
-          if constexpr (std::is_same_v<T, pd6::InstrumentVelocity>) b.bi = line;
-          if constexpr (std::is_same_v<T, pd6::ShipVelocity>) b.bs = line;
-          if constexpr (std::is_same_v<T, pd6::EarthVelocity>) b.be = line;
-          if constexpr (std::is_same_v<T, pd6::Distance>) b.bd = line;
-        },
-        *r.message);
-    ++n;
-    rest = rest.subspan(r.consumed);
-  }
-  EXPECT_EQ(n, 6);
-  return b;
-}
+using testing::decode_a50;
+using testing::decode_nq1;
+using testing::decode_pd0;
+using testing::decode_pd6;
+using testing::Pd6Block;
 
 // ---------- zero noise: every protocol against truth ----------
 

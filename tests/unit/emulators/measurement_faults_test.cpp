@@ -30,6 +30,8 @@
 
 #include "emulator_test_support.hpp"
 
+#include "dvl_decode_support.hpp"
+
 namespace nav::emulators {
 namespace {
 
@@ -335,54 +337,15 @@ DvlConfig dvl_config(DvlProtocol protocol, bool noise) {
 Vec3 v_b_truth(const TruthSample& s) { return s.q_nb.toRotationMatrix().transpose() * s.v_n; }
 
 pd0::BottomTrack decode_pd0(const WireMessage& m) {
-  const auto r = pd0::parse(m.bytes);
-  EXPECT_EQ(r.status, ParseStatus::kComplete) << r.error;
-  const auto e = r.message.value_or(pd0::Ensemble{});
+  const auto e = testing::decode_pd0(m);
   EXPECT_TRUE(e.bottom_track.has_value());
   return e.bottom_track.value_or(pd0::BottomTrack{});
 }
 
-nq1::Nq1 decode_nq1(const WireMessage& m) {
-  const auto r = nq1::parse(m.bytes);
-  EXPECT_EQ(r.status, ParseStatus::kComplete) << r.error;
-  return r.message.value_or(nq1::Nq1{});
-}
-
-a50::VelocityReport decode_a50(const WireMessage& m) {
-  const auto r = a50::parse(m.bytes);
-  EXPECT_EQ(r.status, ParseStatus::kComplete) << r.error;
-  const auto v = a50::decode_velocity(r.message.value_or(a50::Packet{}));
-  EXPECT_TRUE(v.has_value());
-  return v.value_or(a50::VelocityReport{});
-}
-
-struct Pd6Block {
-  pd6::InstrumentVelocity bi;
-  pd6::ShipVelocity bs;
-  pd6::EarthVelocity be;
-  pd6::Distance bd;
-};
-
-Pd6Block decode_pd6(const WireMessage& m) {
-  Pd6Block b;
-  ByteSpan rest(m.bytes);
-  while (!rest.empty()) {
-    const auto r = pd6::parse(rest);
-    EXPECT_EQ(r.status, ParseStatus::kComplete) << r.error;
-    if (r.status != ParseStatus::kComplete) break;
-    std::visit(
-        [&](const auto& line) {
-          using T = std::decay_t<decltype(line)>;
-          if constexpr (std::is_same_v<T, pd6::InstrumentVelocity>) b.bi = line;
-          if constexpr (std::is_same_v<T, pd6::ShipVelocity>) b.bs = line;
-          if constexpr (std::is_same_v<T, pd6::EarthVelocity>) b.be = line;
-          if constexpr (std::is_same_v<T, pd6::Distance>) b.bd = line;
-        },
-        *r.message);
-    rest = rest.subspan(r.consumed);
-  }
-  return b;
-}
+using testing::decode_a50;
+using testing::decode_nq1;
+using testing::decode_pd6;
+using testing::Pd6Block;
 
 /// True when the ping reports bottom lock (velocity and altitude), as its protocol says it;
 /// when not, also checks every flag and invalid value of "no bottom lock".
