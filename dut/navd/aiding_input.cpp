@@ -195,6 +195,16 @@ void AidingInput::feed(protocols::ByteSpan bytes) {
       decoder_);
 }
 
+bool AidingInput::is_dvl() const {
+  switch (protocol_) {
+    case InputProtocol::kNq1:
+    case InputProtocol::kPd0:
+    case InputProtocol::kPd6:
+    case InputProtocol::kA50: return true;
+    default: return false;
+  }
+}
+
 std::uint64_t AidingInput::messages() const {
   std::uint64_t n = 0;
   for (const auto& [type, count] : by_type_) n += count;
@@ -237,14 +247,14 @@ std::string AidingInput::counters_text() const {
 
 void AidingInput::on_message(const nq1::Nq1& m) {
   count("res");
-  if (auto v = nq1::vehicle_velocity_mps(m)) velocity_ = v;
+  if (auto v = nq1::vehicle_velocity_mps(m)) set_velocity(*v);
   last_ = m;
 }
 
 void AidingInput::on_message(const pd0::Ensemble& m) {
   count("ensemble");
   if (m.bottom_track) {
-    if (auto v = pd0::vehicle_velocity_mps(*m.bottom_track)) velocity_ = v;
+    if (auto v = pd0::vehicle_velocity_mps(*m.bottom_track)) set_velocity(*v);
   }
   last_ = m;
 }
@@ -263,7 +273,7 @@ void AidingInput::on_message(const pd6::Line& m) {
           const auto y = pd6::to_mps(line.xyze_mmps[1]);
           const auto z = pd6::to_mps(line.xyze_mmps[2]);
           if (line.track == pd6::Track::kBottom && line.valid && x && y && z) {
-            velocity_ = std::array<double, 3>{*x, *y, *z};
+            set_velocity({*x, *y, *z});
           }
         } else if constexpr (std::is_same_v<L, pd6::ShipVelocity>) {
           count(track_prefix(line.track) + "S");
@@ -288,7 +298,7 @@ void AidingInput::on_message(const a50::Packet& m) {
     case 'z':
       if (auto v = a50::decode_velocity(m)) {
         count("wrz");
-        if (v->valid) velocity_ = std::array<double, 3>{v->vx_mps, v->vy_mps, v->vz_mps};
+        if (v->valid) set_velocity({v->vx_mps, v->vy_mps, v->vz_mps});
       } else {
         ok = false;
       }
@@ -304,7 +314,7 @@ void AidingInput::on_message(const a50::Packet& m) {
     case 'x':
       if (auto v = a50::decode_legacy_velocity(m)) {
         count("wrx");
-        if (v->valid) velocity_ = std::array<double, 3>{v->vx_mps, v->vy_mps, v->vz_mps};
+        if (v->valid) set_velocity({v->vx_mps, v->vy_mps, v->vz_mps});
       } else {
         ok = false;
       }

@@ -121,6 +121,17 @@ class AidingInput {
   /// DVL reports it (PD0/NQ1: as configured, PD6 :BI/:BE, A50 wrz: DVL frame) [m/s].
   const std::optional<std::array<double, 3>>& last_velocity_mps() const { return velocity_; }
 
+  /// The last valid DVL velocity decoded since the previous call (nullopt if none; cleared
+  /// by the call). navd's DVL dead reckoning takes it before the AHRS packets of a wake.
+  std::optional<std::array<double, 3>> take_velocity() {
+    if (!velocity_new_) return std::nullopt;
+    velocity_new_ = false;
+    return velocity_;
+  }
+
+  /// Whether the protocol is a DVL's (nq1, pd0, pd6, a50).
+  bool is_dvl() const;
+
   /// "messages=N{type=n ...} rejects{checksum=.. framing=.. sync_bytes=.. overflow_bytes=..
   /// fields=..}".
   std::string counters_text() const;
@@ -138,6 +149,10 @@ class AidingInput {
   void on_message(const protocols::nmea::Sentence& m);
   void on_message(const protocols::keller::Response& m);
   void count(const std::string& type) { ++by_type_[type]; }
+  void set_velocity(const std::array<double, 3>& v) {
+    velocity_ = v;
+    velocity_new_ = true;
+  }
 
   using Decoder = std::variant<StreamDecoder<protocols::navquest_nq1::Nq1>,
                                StreamDecoder<protocols::rdi_pd0::Ensemble>,
@@ -156,6 +171,7 @@ class AidingInput {
   std::uint64_t field_errors_ = 0;
   Message last_;
   std::optional<std::array<double, 3>> velocity_;
+  bool velocity_new_ = false;  ///< velocity_ set since the last take_velocity()
   std::vector<protocols::keller::Response> keller_answers_;  ///< not yet taken
 };
 

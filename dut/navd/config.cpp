@@ -31,8 +31,12 @@ constexpr std::array<NavdField, 1> kNavdFields = {{
      0.0, 3600.0},
 }};
 
+/// The keys whose value is a name rather than a number.
+constexpr const char* kNavigatorKey = "navigator";
+constexpr const char* kAttitudeKey = "attitude_filter";
+
 std::string known_keys() {
-  std::string s;
+  std::string s = std::string(kNavigatorKey) + ", " + kAttitudeKey;
   for (const auto& f : estimator::param_fields()) {
     if (!s.empty()) s += ", ";
     s += f.name;
@@ -61,7 +65,32 @@ std::string format_g(double v) {
   return value;
 }
 
+/// Sets `navigator` or `attitude_filter` from a scalar; the error is the reason only.
+Result<void> set_choice(NavdConfig& config, const std::string& key, const YAML::Node& value) {
+  if (!value.IsScalar()) return fail(ErrorCode::kParse, "'" + key + "' expects a name");
+  const std::string v = value.Scalar();
+  if (key == kNavigatorKey) {
+    if (v == "gps-ins") {
+      config.navigator = NavigatorKind::kGpsIns;
+    } else if (v == "dvl") {
+      config.navigator = NavigatorKind::kDvl;
+    } else {
+      return fail(ErrorCode::kInvalidArgument,
+                  "unknown navigator '" + v + "' (expected gps-ins or dvl)");
+    }
+    return {};
+  }
+  auto kind = estimator::parse_attitude_filter(v);
+  if (!kind) return fail(kind.error().code, kind.error().detail);
+  config.attitude = *kind;
+  return {};
+}
+
 }  // namespace
+
+const char* navigator_name(NavigatorKind kind) {
+  return kind == NavigatorKind::kDvl ? "dvl" : "gps-ins";
+}
 
 Result<void> validate(const NavdParams& p) {
   for (const NavdField& f : kNavdFields) {
@@ -94,6 +123,12 @@ Result<NavdConfig> load_config(const std::string& path) {
     const YAML::Node& key = kv.first;
     const YAML::Node& value = kv.second;
     const std::string name = key.IsScalar() ? key.Scalar() : std::string("?");
+    if (name == kNavigatorKey || name == kAttitudeKey) {
+      if (auto ok = set_choice(config, name, value); !ok) {
+        return fail(ok.error().code, where(path, value.Mark()) + ": " + ok.error().detail);
+      }
+      continue;
+    }
     const estimator::ParamField* field = find_field(name);
     const NavdField* navd_field = find_navd_field(name);
     if (field == nullptr && navd_field == nullptr) {
@@ -126,7 +161,15 @@ Result<NavdConfig> load_config(const std::string& path) {
 
 std::string config_keys_help() {
   const estimator::FilterParams defaults;
-  std::string s;
+  std::string s = std::string("  ") + kNavigatorKey +
+                  " (default gps-ins): gps-ins (AHRS + GPS Kalman filter anchored at the first "
+                  "GPS fix) or dvl (DVL dead reckoning from origin_lat_deg/origin_lon_deg/"
+                  "origin_depth_m, paper P0)\n  " +
+                  kAttitudeKey + " (default mahony): attitude source, one of " +
+                  estimator::attitude_filter_names() +
+                  " (raw/ekf/ukf/cf: paper P0's no-filtering, Euler EKF, Euler UKF and PI "
+                  "complementary filter; eskf: error-state quaternion EKF with gyro bias and a "
+                  "gated magnetometer)\n";
   for (const auto& f : estimator::param_fields()) {
     char value[32];
     std::snprintf(value, sizeof value, "%g", defaults.*(f.member));

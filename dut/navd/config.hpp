@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: MIT
 // navd's optional YAML config file: a flat map of FilterParams fields and of navd's own
-// parameters (NavdParams) by name, e.g.
+// parameters (NavdParams) by name, plus two choices by name, e.g.
 //
+//   navigator: dvl            # gps-ins (default) or dvl
+//   attitude_filter: ekf      # mahony (default), raw, ekf, ukf, cf or eskf
 //   attitude_kp_per_s: 0.8
 //   gps_horizontal_std_m: 1.5
 //
@@ -12,6 +14,7 @@
 #include <string>
 
 #include "nav/common/result.hpp"
+#include "nav/estimator/attitude_filter.hpp"
 #include "nav/estimator/filter_params.hpp"
 
 namespace nav::dut {
@@ -23,11 +26,23 @@ struct NavdParams {
   double modem_period_s = 2.0;
 };
 
+/// Which navigator navd runs.
+enum class NavigatorKind {
+  kGpsIns,  ///< "gps-ins": AHRS + GPS (+ depth) Kalman filter anchored at the first GPS fix
+  kDvl,     ///< "dvl": DVL dead reckoning from the configured origin (paper P0)
+};
+
 /// Everything a config file sets.
 struct NavdConfig {
   estimator::FilterParams filter;  ///< estimator parameters
   NavdParams navd;                 ///< navd's own parameters
+  NavigatorKind navigator = NavigatorKind::kGpsIns;  ///< key `navigator`
+  estimator::AttitudeFilterKind attitude =
+      estimator::AttitudeFilterKind::kMahony;        ///< key `attitude_filter`
 };
+
+/// "gps-ins" or "dvl".
+const char* navigator_name(NavigatorKind kind);
 
 /// Checks NavdParams ranges; the error names the field and the value.
 Result<void> validate(const NavdParams& p);

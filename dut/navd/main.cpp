@@ -1,12 +1,14 @@
 // SPDX-License-Identifier: MIT
 // navd: the reference DUT of navbench. Reads a MicroStrain 3DM-GX3-25 (0xCB packets), an
 // NMEA 0183 GPS (GGA/RMC; VTG/HDT/ZDA counted) and any number of extra aiding inputs
-// (--input: DVLs, USBL, EBIMU, NMEA decoded and counted, not yet fused; a Keller RS-485
-// depth sensor polled and fused) from serial ports, estimates, and writes one $PNVBSOL
-// solution per AHRS packet to an output serial port (docs/dut-contract.md). With --modem it
-// broadcasts its position as $PNVBPOS over an acoustic modem and logs the other vehicles'.
-// With --can it reads one SocketCAN bus (NMEA 2000, and the frames of the vehicle's DBC given
-// with --dbc): decoded and counted, not fused.
+// (--input: DVLs, USBL, EBIMU, NMEA; a Keller RS-485 depth sensor polled) from serial ports,
+// estimates, and writes one $PNVBSOL solution per AHRS packet to an output serial port
+// (docs/dut-contract.md). Its config selects the navigator (gps-ins: AHRS + GPS Kalman filter,
+// depth fused; dvl: DVL dead reckoning from a known start, depth fused, paper P0) and the
+// attitude source (mahony, or paper P0's raw/ekf/ukf/cf, or the error-state quaternion EKF
+// eskf). With --modem it broadcasts its position as $PNVBPOS over an acoustic modem and logs
+// the other vehicles'. With --can it reads one SocketCAN bus (NMEA 2000, and the frames of
+// the vehicle's DBC given with --dbc): decoded and counted, not fused.
 //
 // Exit codes: 0 SIGTERM/SIGINT, output hang-up, or every input at EOF/hang-up;
 //             2 bad usage or config (a DBC that cannot be loaded or disagrees with the code);
@@ -40,15 +42,22 @@ constexpr int kExitPort = 3;
 constexpr const char* kDescription =
     "navd - reference DUT of navbench. Reads a MicroStrain 3DM-GX3-25 AHRS (0xCB packets) and "
     "an optional NMEA 0183 GPS (GGA, RMC; VTG, HDT, ZDA counted) from serial ports (ttys or "
-    "pty slaves, raw 8N1), estimates attitude (complementary filter) and position/velocity "
-    "(Kalman filter anchored at the first GPS fix), and writes one $PNVBSOL solution per AHRS "
-    "packet. Extra aiding inputs (--input: DVL, USBL, EBIMU, NMEA) are decoded, counted and "
-    "kept, not yet fused; a Keller RS-485 depth sensor (--input NAME=keller:PATH) is polled "
-    "and its depth fused. With --modem it shares its position with other vehicles over an "
-    "acoustic modem ($PNVBPOS) and counts and logs theirs (not fused). With --can it reads one "
-    "SocketCAN bus: NMEA 2000 PGNs 127250, 127251, 127257, 128259, 128267, 129025, 129026 and "
-    "129029 (fast packet), and the vehicle's frames described by --dbc (wheel encoders), "
-    "decoded and counted, not fused.";
+    "pty slaves, raw 8N1), estimates attitude and position, and writes one $PNVBSOL solution "
+    "per AHRS packet. The config file (--config) chooses the navigator: gps-ins (default: a "
+    "Kalman filter anchored at the first GPS fix, driven by the accelerometer) or dvl (paper "
+    "P0: the DVL velocity of every DVL --input rotated by the attitude and integrated from "
+    "origin_lat_deg/origin_lon_deg/origin_depth_m; GPS ignored); and the attitude source: "
+    "mahony (default: quaternion complementary filter with gyro bias), raw, ekf, ukf or cf "
+    "(paper P0's no-filtering, Euler EKF, Euler UKF and PI complementary filter, with the "
+    "paper's parameters) or eskf (error-state quaternion EKF: gyro bias, magnetometer gated on "
+    "field magnitude and inclination, accelerometer compensated with the DVL velocity). Other "
+    "aiding inputs (--input: USBL, EBIMU, NMEA; DVLs under gps-ins) are decoded, counted and "
+    "kept, not fused; a Keller RS-485 depth sensor (--input NAME=keller:PATH) is polled and "
+    "its depth fused by either navigator. With --modem it shares its position with other "
+    "vehicles over an acoustic modem ($PNVBPOS) and counts and logs theirs (not fused). With "
+    "--can it reads one SocketCAN bus: NMEA 2000 PGNs 127250, 127251, 127257, 128259, 128267, "
+    "129025, 129026 and 129029 (fast packet), and the vehicle's frames described by --dbc "
+    "(wheel encoders), decoded and counted, not fused.";
 
 std::string footer() {
   return "Output format: for every AHRS 0xCB packet navd writes exactly one line "
@@ -58,7 +67,10 @@ std::string footer() {
          "latitude/longitude in degrees (+N, +E); depth in metres below mean sea level (+down); "
          "velocity north/east/down in m/s; roll/pitch/yaw (ZYX) in degrees; status ALIGNING "
          "before the first GPS fix (the six position and velocity fields are then empty), OK "
-         "after it, DEGRADED if the estimate is not finite; hh is the XOR of the characters "
+         "after it (dvl navigator: from the first AHRS packet), DEGRADED if the estimate is "
+         "not finite or the attitude filter reported a numerical fault at this packet (e.g. "
+         "the UKF's Cholesky factorisation failed; the filter recovered); hh is the XOR of the "
+         "characters "
          "between '$' and '*' in two upper-case hex digits. Writes never block: up to 64 KiB "
          "of solutions wait for a slow reader, then the oldest unsent ones are dropped.\n\n"
          "Extra inputs: --input NAME=PROTOCOL:PATH[@BAUD], repeatable. NAME is the port's "
@@ -69,8 +81,9 @@ std::string footer() {
          "9600 for nmea and keller and 115200 otherwise. Example: "
          "--input dvl=pd0:/dev/pts/5@115200. Every input has its own decoder; its messages are "
          "counted by type, malformed bytes are dropped and counted by reason (checksum, "
-         "framing, sync_bytes, overflow_bytes, fields), and the estimate does not use them yet, "
-         "except keller. "
+         "framing, sync_bytes, overflow_bytes, fields). The estimate uses keller inputs, and "
+         "under the dvl navigator the bottom-track velocity of nq1, pd0, pd6 and a50 inputs "
+         "(instrument frame = body frame; the last one decoded before each AHRS packet). "
          "All inputs are read in the same loop, the AHRS first, and every aiding message is "
          "handled before the AHRS packets of the same wake-up.\n\n"
          "Keller depth sensor: navd is the bus master. It sends F48 (init) to address 250 "

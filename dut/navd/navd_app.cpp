@@ -105,10 +105,15 @@ NavdApp::NavdApp(const NavdOptions& options, const NavdConfig& config,
       gps_decoder_(&protocols::nmea::parse, static_cast<std::uint8_t>('$'), kInputBufferBytes),
       out_(output_, kOutputQueueBytes),
       params_(config.filter),
-      navigator_(config.filter),
+      navigator_kind_(config.navigator),
       can_(std::move(can)),
       can_open_(can_.has_value()) {
   const estimator::FilterParams& params = config.filter;
+  if (config.navigator == NavigatorKind::kDvl) {
+    dvl_nav_.emplace(params, config.attitude);
+  } else {
+    gps_nav_.emplace(params, config.attitude);
+  }
   if (modem) {
     modem_ = std::move(modem);
     modem_open_ = true;
@@ -137,11 +142,29 @@ void NavdApp::handle_keller_answers() {
     if (!e.poller) continue;
     for (const auto& answer : e.input.take_keller_answers()) {
       if (const auto p1_bar = e.poller->on_answer(answer)) {
-        navigator_.add_depth(depth_from_p1_bar(*p1_bar, params_.depth_atmosphere_pa,
-                                               params_.depth_density_kgpm3));
+        const double depth_m = depth_from_p1_bar(*p1_bar, params_.depth_atmosphere_pa,
+                                                 params_.depth_density_kgpm3);
+        if (gps_nav_) gps_nav_->add_depth(depth_m);
+        if (dvl_nav_) dvl_nav_->add_depth(depth_m);
       }
     }
   }
+}
+
+void NavdApp::handle_dvl_velocities() {
+  for (auto& e : extras_) {
+    if (!e.input.is_dvl()) continue;
+    const auto v = e.input.take_velocity();
+    if (v && dvl_nav_) dvl_nav_->add_dvl_velocity(Vec3((*v)[0], (*v)[1], (*v)[2]));
+  }
+}
+
+estimator::NavSolution NavdApp::nav_solution() const {
+  return gps_nav_ ? gps_nav_->solution() : dvl_nav_->solution();
+}
+
+estimator::AttitudeStatus NavdApp::attitude_status() const {
+  return gps_nav_ ? gps_nav_->last_attitude_status() : dvl_nav_->last_attitude_status();
 }
 
 void NavdApp::write_modem(const std::string& sentence) {
@@ -224,7 +247,7 @@ void NavdApp::handle_gps(const protocols::nmea::Sentence& s) {
     fix.position.lat_rad = units::deg_to_rad(*gga->lat_deg);
     fix.position.lon_rad = units::deg_to_rad(*gga->lon_deg);
     fix.position.alt_m = *gga->alt_msl_m;
-    navigator_.add_gps_position(fix);
+    if (gps_nav_) gps_nav_->add_gps_position(fix);
   } else if (s.type == "RMC") {
     const auto rmc = nmea::decode_rmc(s);
     if (!rmc) {
@@ -243,7 +266,7 @@ void NavdApp::handle_gps(const protocols::nmea::Sentence& s) {
     estimator::GpsVelocity fix;
     fix.sog_mps = *rmc->sog_kn * units::kKnotToMps;
     fix.cog_rad = units::deg_to_rad(*rmc->cog_deg);
-    navigator_.add_gps_velocity(fix);
+    if (gps_nav_) gps_nav_->add_gps_velocity(fix);
   } else if (s.type == "VTG") {
     // Counted only: RMC supplies SOG/COG, and a receiver sending both would fuse twice.
     if (nmea::decode_vtg(s)) {
@@ -295,11 +318,16 @@ bool NavdApp::handle_ahrs(const protocols::gx3::AccelRateMag& m) {
   for (auto& e : extras_) {
     if (e.poller) write_request(e, e.poller->on_ahrs(m.timer_ticks));
   }
-  navigator_.on_ahrs(to_sample(m));
-  const estimator::NavSolution nav = navigator_.solution();
+  if (gps_nav_) gps_nav_->on_ahrs(to_sample(m));
+  if (dvl_nav_) dvl_nav_->on_ahrs(to_sample(m));
+  const estimator::NavSolution nav = nav_solution();
   // The position report due at this sample, from its estimate, also before its solution.
   if (modem_link_) write_modem(modem_link_->on_ahrs(m.timer_ticks, nav));
-  const auto solution = to_solution(nav, m.timer_ticks, seq_++);
+  auto solution = to_solution(nav, m.timer_ticks, seq_++);
+  // A numerical fault of the attitude filter at this sample (recovered) is reported.
+  if (attitude_status() == estimator::AttitudeStatus::kNumericalFault) {
+    solution.status = "DEGRADED";
+  }
   if (!wait_delay()) return false;
   if (auto ok = out_.push(protocols::navd::encode(solution)); !ok) {
     stop_reason_ = "output closed: " + ok.error().detail;
@@ -364,6 +392,7 @@ std::string NavdApp::run() {
 
     for (const auto& s : gps_msgs) handle_gps(s);
     handle_keller_answers();
+    handle_dvl_velocities();
     for (const auto& m : ahrs_msgs) {
       if (!handle_ahrs(m)) break;
     }
@@ -392,7 +421,6 @@ std::string NavdApp::run() {
 }
 
 std::string NavdApp::stats_line(const std::string& reason) const {
-  const auto& nav = navigator_.stats();
   std::string s = "navd: stopped (" + reason + "): ahrs packets=" +
                   std::to_string(ahrs_decoder_.messages()) + " rejects{" +
                   rejects_text(ahrs_decoder_.rejects()) + "}";
@@ -423,16 +451,39 @@ std::string NavdApp::stats_line(const std::string& reason) const {
   }
   s += "; solutions written=" + std::to_string(out_.written()) +
        " dropped=" + std::to_string(out_.dropped()) +
-       " unsent=" + std::to_string(out_.queued()) +
-       "; filter ahrs_invalid=" + std::to_string(nav.ahrs_rejected_invalid) +
-       " dt_resets=" + std::to_string(nav.dt_resets) +
-       " gps_pos_fused=" + std::to_string(nav.gps_position_fused) +
-       " gps_vel_fused=" + std::to_string(nav.gps_velocity_fused) +
-       " gps_rejected=" + std::to_string(nav.gps_rejected_invalid + nav.gps_rejected_gate) +
-       " depth_fused=" + std::to_string(nav.depth_fused) +
-       " depth_unanchored=" + std::to_string(nav.depth_unanchored) +
-       " depth_rejected=" + std::to_string(nav.depth_rejected_invalid) +
-       " numerical_faults=" + std::to_string(nav.numerical_faults);
+       " unsent=" + std::to_string(out_.queued());
+  if (gps_nav_) {
+    const auto& nav = gps_nav_->stats();
+    s += "; filter ahrs_invalid=" + std::to_string(nav.ahrs_rejected_invalid) +
+         " dt_resets=" + std::to_string(nav.dt_resets) +
+         " gps_pos_fused=" + std::to_string(nav.gps_position_fused) +
+         " gps_vel_fused=" + std::to_string(nav.gps_velocity_fused) +
+         " gps_rejected=" + std::to_string(nav.gps_rejected_invalid + nav.gps_rejected_gate) +
+         " depth_fused=" + std::to_string(nav.depth_fused) +
+         " depth_unanchored=" + std::to_string(nav.depth_unanchored) +
+         " depth_rejected=" + std::to_string(nav.depth_rejected_invalid) +
+         " numerical_faults=" + std::to_string(nav.numerical_faults);
+  } else {
+    const auto& nav = dvl_nav_->stats();
+    s += "; dead_reckoning ahrs_invalid=" + std::to_string(nav.ahrs_rejected_invalid) +
+         " dt_resets=" + std::to_string(nav.dt_resets) +
+         " dvl_used=" + std::to_string(nav.dvl_used) +
+         " dvl_superseded=" + std::to_string(nav.dvl_superseded) +
+         " dvl_rejected=" + std::to_string(nav.dvl_rejected_invalid) +
+         " stale_samples=" + std::to_string(nav.stale_samples) +
+         " depth_used=" + std::to_string(nav.depth_used) +
+         " depth_rejected=" + std::to_string(nav.depth_rejected_invalid);
+  }
+  const estimator::AttitudeFilter& att =
+      gps_nav_ ? gps_nav_->attitude() : dvl_nav_->attitude();
+  const estimator::AttitudeStats& a = att.stats();
+  s += "; attitude " + std::string(estimator::attitude_filter_name(att.kind())) +
+       " steps=" + std::to_string(a.steps) +
+       " rejected_invalid=" + std::to_string(a.rejected_invalid) +
+       " numerical_faults=" + std::to_string(a.numerical_faults) +
+       " singular=" + std::to_string(a.singular) +
+       " accel_rejected=" + std::to_string(a.accel_rejected) +
+       " mag_rejected=" + std::to_string(a.mag_rejected);
   return s;
 }
 

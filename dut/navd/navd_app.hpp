@@ -12,9 +12,11 @@
 //                                                    (--input messages, CAN frames and peer
 //                                                    reports are counted and the last one
 //                                                    kept as they are decoded)
-//                                                 2. every decoded GPS sentence → fix queue,
-//                                                    then every Keller answer → its poller
-//                                                    → depth queue
+//                                                 2. every decoded GPS sentence → fix queue
+//                                                    (gps-ins navigator), then every Keller
+//                                                    answer → its poller → depth queue, then
+//                                                    the last DVL velocity of each DVL input
+//                                                    → dead reckoning (dvl navigator)
 //                                                 3. every decoded 0xCB packet, in arrival
 //                                                    order: Keller requests due at its timer
 //                                                    → [keller tty], navigator step
@@ -42,6 +44,7 @@
 #include <string>
 #include <vector>
 
+#include "nav/estimator/dvl_navigator.hpp"
 #include "nav/estimator/navigator.hpp"
 #include "nav/protocols/microstrain_gx3.hpp"
 #include "nav/protocols/nmea0183.hpp"
@@ -173,7 +176,16 @@ class NavdApp {
   std::optional<ModemLink> modem_link_;  ///< set with modem_
   OutputQueue out_;
   estimator::FilterParams params_;
-  estimator::Navigator navigator_;
+  NavigatorKind navigator_kind_;
+  /// Exactly one of the two is set, by the config's `navigator`.
+  std::optional<estimator::Navigator> gps_nav_;
+  std::optional<estimator::DvlNavigator> dvl_nav_;
+  /// The estimate of whichever navigator runs.
+  estimator::NavSolution nav_solution() const;
+  /// Status of the last attitude step of whichever navigator runs.
+  estimator::AttitudeStatus attitude_status() const;
+  /// Hands the DVL velocities decoded this wake to the dead reckoning (dvl navigator only).
+  void handle_dvl_velocities();
   std::uint64_t seq_ = 0;
   GpsCounts gps_counts_;
   std::optional<double> last_heading_deg_;  ///< last HDT heading (not used by the filter) [deg]

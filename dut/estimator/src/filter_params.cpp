@@ -49,6 +49,34 @@ constexpr ParamField kFields[] = {
     {"depth_density_kgpm3", &FilterParams::depth_density_kgpm3,
      "water density for depth = (P1 - p_atm) / (rho g0), [900, 1100] [kg/m^3]"},
     {"depth_std_m", &FilterParams::depth_std_m, "depth measurement std [m]"},
+    {"dvl_timeout_s", &FilterParams::dvl_timeout_s,
+     "a DVL velocity older than this stops the dead reckoning, (0, 60] [s]"},
+    {"origin_lat_deg", &FilterParams::origin_lat_deg,
+     "latitude of the dead reckoning's start, [-90, 90] [deg]"},
+    {"origin_lon_deg", &FilterParams::origin_lon_deg,
+     "longitude of the dead reckoning's start, [-180, 180] [deg]"},
+    {"origin_depth_m", &FilterParams::origin_depth_m,
+     "depth of the dead reckoning's start below MSL, + down [m]"},
+    {"eskf_gyro_noise_radps_rthz", &FilterParams::eskf_gyro_noise_radps_rthz,
+     "eskf: gyro noise density [rad/s/sqrt(Hz)]"},
+    {"eskf_gyro_bias_walk_radps2_rthz", &FilterParams::eskf_gyro_bias_walk_radps2_rthz,
+     "eskf: gyro bias random walk [rad/s^2/sqrt(Hz)]"},
+    {"eskf_initial_tilt_std_rad", &FilterParams::eskf_initial_tilt_std_rad,
+     "eskf: initial roll/pitch std [rad]"},
+    {"eskf_initial_yaw_std_rad", &FilterParams::eskf_initial_yaw_std_rad,
+     "eskf: initial yaw std [rad]"},
+    {"eskf_initial_gyro_bias_std_radps", &FilterParams::eskf_initial_gyro_bias_std_radps,
+     "eskf: initial gyro bias std per axis [rad/s]"},
+    {"eskf_accel_std_mps2", &FilterParams::eskf_accel_std_mps2,
+     "eskf: accelerometer std per axis [m/s^2]"},
+    {"eskf_mag_heading_std_rad", &FilterParams::eskf_mag_heading_std_rad,
+     "eskf: magnetic heading std [rad]"},
+    {"eskf_mag_norm_gate", &FilterParams::eskf_mag_norm_gate,
+     "eskf: refuse the magnetometer when |m| is off its reference by this fraction, 0 = off [-]"},
+    {"eskf_mag_inclination_gate_rad", &FilterParams::eskf_mag_inclination_gate_rad,
+     "eskf: refuse the magnetometer when the inclination is off by this, 0 = off [rad]"},
+    {"eskf_mag_heading_gate_nis", &FilterParams::eskf_mag_heading_gate_nis,
+     "eskf: NIS gate of magnetic heading updates, 0 = off [-]"},
 };
 
 /// A closed range a field must lie in (the open lower end of a period is checked apart).
@@ -92,6 +120,17 @@ Result<void> validate(const FilterParams& p) {
       {"gps_velocity_gate_nis", p.gps_velocity_gate_nis, false},
       {"depth_poll_period_s", p.depth_poll_period_s, true},
       {"depth_std_m", p.depth_std_m, true},
+      {"dvl_timeout_s", p.dvl_timeout_s, true},
+      {"eskf_gyro_noise_radps_rthz", p.eskf_gyro_noise_radps_rthz, true},
+      {"eskf_gyro_bias_walk_radps2_rthz", p.eskf_gyro_bias_walk_radps2_rthz, false},
+      {"eskf_initial_tilt_std_rad", p.eskf_initial_tilt_std_rad, true},
+      {"eskf_initial_yaw_std_rad", p.eskf_initial_yaw_std_rad, true},
+      {"eskf_initial_gyro_bias_std_radps", p.eskf_initial_gyro_bias_std_radps, true},
+      {"eskf_accel_std_mps2", p.eskf_accel_std_mps2, true},
+      {"eskf_mag_heading_std_rad", p.eskf_mag_heading_std_rad, true},
+      {"eskf_mag_norm_gate", p.eskf_mag_norm_gate, false},
+      {"eskf_mag_inclination_gate_rad", p.eskf_mag_inclination_gate_rad, false},
+      {"eskf_mag_heading_gate_nis", p.eskf_mag_heading_gate_nis, false},
   };
   for (const Rule& r : rules) {
     const bool ok = r.strictly_positive ? r.value > 0.0 : r.value >= 0.0;
@@ -105,6 +144,10 @@ Result<void> validate(const FilterParams& p) {
       {"depth_poll_period_s", p.depth_poll_period_s, 0.0, 60.0},
       {"depth_atmosphere_pa", p.depth_atmosphere_pa, 0.0, 200000.0},
       {"depth_density_kgpm3", p.depth_density_kgpm3, 900.0, 1100.0},
+      {"dvl_timeout_s", p.dvl_timeout_s, 0.0, 60.0},
+      {"origin_lat_deg", p.origin_lat_deg, -90.0, 90.0},
+      {"origin_lon_deg", p.origin_lon_deg, -180.0, 180.0},
+      {"origin_depth_m", p.origin_depth_m, -10000.0, 12000.0},
   };
   for (const RangeRule& r : ranges) {
     if (r.value < r.min || r.value > r.max) {

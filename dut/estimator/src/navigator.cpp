@@ -14,9 +14,8 @@ double ahrs_dt_s(std::uint32_t previous_ticks, std::uint32_t current_ticks) {
   return static_cast<double>(ticks) / kAhrsTicksPerSecond;
 }
 
-Navigator::Navigator(const FilterParams& params) : params_(params), attitude_(params) {
-  NAV_ENSURE(validate(params).has_value(), "filter parameters must be validated first");
-}
+Navigator::Navigator(const FilterParams& params, AttitudeFilterKind kind)
+    : params_(params), attitude_(make_attitude_filter(kind, params)) {}
 
 template <typename Fix>
 void Navigator::enqueue(const Fix& fix) {
@@ -41,9 +40,7 @@ void Navigator::on_ahrs(const AhrsSample& s) {
     // The timer of this sample is not trusted either: the next interval spans both samples.
     ++stats_.ahrs_rejected_invalid;
   } else if (!aligned_) {
-    if (const auto q = ComplementaryAttitude::align(s.f_b_mps2, s.m_b_tesla,
-                                                    params_.magnetic_declination_rad)) {
-      attitude_.reset(*q);
+    if (attitude_->initialise(s.f_b_mps2, s.m_b_tesla)) {
       aligned_ = true;
       previous_timer_ = s.timer_ticks;
     } else {
@@ -55,9 +52,14 @@ void Navigator::on_ahrs(const AhrsSample& s) {
     if (dt <= 0.0 || dt > params_.max_dt_s) {
       ++stats_.dt_resets;  // skip propagation; the next interval starts at this sample
     } else {
-      attitude_.step(s.omega_b_radps, s.f_b_mps2, s.m_b_tesla, dt);
+      AttitudeInput in;
+      in.omega_b_radps = s.omega_b_radps;
+      in.f_b_mps2 = s.f_b_mps2;
+      in.m_b_tesla = s.m_b_tesla;
+      in.dt_s = dt;
+      last_status_ = attitude_->step(in);
       if (kf_) {
-        const Vec3 a_n = pv::nav_acceleration(attitude_.q_nb(), s.f_b_mps2, gravity_mps2_);
+        const Vec3 a_n = pv::nav_acceleration(attitude_->q_nb(), s.f_b_mps2, gravity_mps2_);
         kf_->predict(a_n, dt, params_.accel_noise_density_mps2_rthz);
       }
     }
@@ -155,7 +157,7 @@ void Navigator::apply(const DepthMeasurement& depth) {
 NavSolution Navigator::solution() const {
   NavSolution s;
   s.attitude_valid = aligned_;
-  s.q_nb = attitude_.q_nb();
+  s.q_nb = attitude_->q_nb();
   if (kf_) {
     s.position_valid = true;
     s.p_n = kf_->p_n();

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
-// Parameters of the loosely coupled AHRS + GPS (+ depth) navigator (navigator.hpp), with their
-// defaults. Every field is a double in SI units named with its unit, so a config file can
+// Parameters of the navigators (navigator.hpp: AHRS + GPS (+ depth); dvl_navigator.hpp: DVL
+// dead reckoning) and of the attitude filters they run (attitude_filter.hpp), with their
+// defaults. The P0 filters' matrices are the paper's tables (euler_attitude.hpp), not fields. Every field is a double in SI units named with its unit, so a config file can
 // set them by name (param_fields()).
 #pragma once
 
@@ -60,6 +61,41 @@ struct FilterParams {
   double depth_density_kgpm3 = 1025.0;
   /// Standard deviation of a depth measurement [m].
   double depth_std_m = 0.05;
+
+  // --- DVL dead reckoning (dvl_navigator.hpp) ---
+  /// A DVL velocity older than this (AHRS time) no longer moves the dead reckoning [s].
+  double dvl_timeout_s = 1.0;
+  /// Latitude of the dead reckoning's start, +N [deg].
+  double origin_lat_deg = 0.0;
+  /// Longitude of the dead reckoning's start, +E [deg].
+  double origin_lon_deg = 0.0;
+  /// Depth of the dead reckoning's start below mean sea level, + down [m].
+  double origin_depth_m = 0.0;
+
+  // --- error-state quaternion EKF (quat_eskf.hpp); also uses accel_gate_mps2,
+  //     gyro_bias_limit_radps and magnetic_declination_rad ---
+  /// Gyro white-noise density (angle random walk) [rad/s/sqrt(Hz)].
+  double eskf_gyro_noise_radps_rthz = 5.0e-4;
+  /// Gyro bias random-walk density [rad/s^2/sqrt(Hz)].
+  double eskf_gyro_bias_walk_radps2_rthz = 2.0e-6;
+  /// Initial roll and pitch standard deviation [rad].
+  double eskf_initial_tilt_std_rad = 0.05;
+  /// Initial yaw standard deviation [rad].
+  double eskf_initial_yaw_std_rad = 0.2;
+  /// Initial gyro bias standard deviation per axis [rad/s].
+  double eskf_initial_gyro_bias_std_radps = 0.005;
+  /// Accelerometer (gravity direction) standard deviation per axis [m/s^2].
+  double eskf_accel_std_mps2 = 0.1;
+  /// Magnetic heading standard deviation [rad].
+  double eskf_mag_heading_std_rad = 0.05;
+  /// The magnetometer is refused when |m| differs from its reference by more than this
+  /// fraction; 0 = no magnitude gate [-].
+  double eskf_mag_norm_gate = 0.01;
+  /// The magnetometer is refused when the field's inclination differs from its reference by
+  /// more than this; 0 = no inclination gate [rad].
+  double eskf_mag_inclination_gate_rad = 0.02;
+  /// Chi-square gate on the NIS of a magnetic heading update (1 dof); 0 = off [-].
+  double eskf_mag_heading_gate_nis = 0.0;
 };
 
 /// One parameter by name, for config files and help text.

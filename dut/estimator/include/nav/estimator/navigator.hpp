@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
-// Loosely coupled AHRS + GPS navigator: the complementary attitude filter
-// (complementary_attitude.hpp) feeds the specific force, rotated into NED, to a
+// Loosely coupled AHRS + GPS navigator: the configured attitude source
+// (attitude_filter.hpp; by default the complementary filter of complementary_attitude.hpp) feeds the specific force, rotated into NED, to a
 // position/velocity Kalman filter (pv_model.hpp) corrected by GPS position and velocity
 // and by depth.
 //
@@ -23,8 +23,10 @@
 #include <variant>
 #include <vector>
 
+#include <memory>
+
 #include "nav/common/geodesy.hpp"
-#include "nav/estimator/complementary_attitude.hpp"
+#include "nav/estimator/attitude_filter.hpp"
 #include "nav/estimator/filter_params.hpp"
 #include "nav/estimator/position_velocity_filter.hpp"
 
@@ -92,8 +94,9 @@ struct NavSolution {
 /// AHRS-driven loosely coupled navigator; see the file comment for the processing order.
 class Navigator {
  public:
-  /// params must pass validate().
-  explicit Navigator(const FilterParams& params);
+  /// params must pass validate(); `kind` selects the attitude source (attitude_filter.hpp).
+  explicit Navigator(const FilterParams& params,
+                     AttitudeFilterKind kind = AttitudeFilterKind::kMahony);
 
   /// Queues a position fix for the next AHRS sample.
   void add_gps_position(const GpsPosition& fix);
@@ -108,6 +111,9 @@ class Navigator {
   /// The current estimate.
   NavSolution solution() const;
   const NavigatorStats& stats() const { return stats_; }
+  /// Status of the last attitude step (kOk before the first).
+  AttitudeStatus last_attitude_status() const { return last_status_; }
+  const AttitudeFilter& attitude() const { return *attitude_; }
   /// Report of the last GPS position update (nullopt before the first one after anchoring).
   const std::optional<UpdateReport<3>>& last_position_report() const { return last_pos_; }
   /// Report of the last GPS velocity update.
@@ -129,7 +135,8 @@ class Navigator {
   void count(const UpdateReport<M>& report, std::uint64_t& fused_counter);
 
   FilterParams params_;
-  ComplementaryAttitude attitude_;
+  std::unique_ptr<AttitudeFilter> attitude_;
+  AttitudeStatus last_status_ = AttitudeStatus::kOk;
   bool aligned_ = false;
   std::uint32_t previous_timer_ = 0;
   std::optional<geodesy::LocalTangentPlane> plane_;  ///< set by the first position fix

@@ -1,0 +1,79 @@
+// SPDX-License-Identifier: MIT
+// navd's config file: numeric keys, the navigator and attitude_filter choices, located errors.
+#include "config.hpp"
+
+#include <cstdio>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+
+namespace nav::dut {
+namespace {
+
+/// Writes `text` to a fresh temporary file and returns its path.
+std::string write_config(const std::string& text) {
+  static int n = 0;
+  const std::string path = ::testing::TempDir() + "navd_config_" + std::to_string(n++) + ".yaml";
+  std::ofstream(path) << text;
+  return path;
+}
+
+TEST(NavdConfig, DefaultsAreTheGpsInsNavigatorWithMahony) {
+  const auto c = load_config(write_config(""));
+  ASSERT_TRUE(c.has_value());
+  EXPECT_EQ(c->navigator, NavigatorKind::kGpsIns);
+  EXPECT_EQ(c->attitude, estimator::AttitudeFilterKind::kMahony);
+}
+
+TEST(NavdConfig, SelectsTheDvlNavigatorAndEachAttitudeFilter) {
+  for (const auto& [name, kind] :
+       {std::pair{"raw", estimator::AttitudeFilterKind::kRaw},
+        std::pair{"ekf", estimator::AttitudeFilterKind::kEkf},
+        std::pair{"ukf", estimator::AttitudeFilterKind::kUkf},
+        std::pair{"cf", estimator::AttitudeFilterKind::kCf},
+        std::pair{"eskf", estimator::AttitudeFilterKind::kEskf},
+        std::pair{"mahony", estimator::AttitudeFilterKind::kMahony}}) {
+    const auto c = load_config(write_config(std::string("navigator: dvl\nattitude_filter: ") +
+                                            name + "\norigin_lat_deg: 36.5\n"));
+    ASSERT_TRUE(c.has_value()) << c.error().detail;
+    EXPECT_EQ(c->navigator, NavigatorKind::kDvl);
+    EXPECT_EQ(c->attitude, kind);
+    EXPECT_EQ(c->filter.origin_lat_deg, 36.5);
+  }
+}
+
+TEST(NavdConfig, UnknownChoicesAreLocatedAndListTheValidNames) {
+  const std::string path = write_config("navigator: dvl\nattitude_filter: kalman\n");
+  const auto c = load_config(path);
+  ASSERT_FALSE(c.has_value());
+  EXPECT_EQ(c.error().detail,
+            path + ":2:18: unknown attitude filter 'kalman' (expected one of mahony, raw, ekf, "
+                   "ukf, cf, eskf)");
+  const auto n = load_config(write_config("navigator: usbl\n"));
+  ASSERT_FALSE(n.has_value());
+  EXPECT_NE(n.error().detail.find(":1:12: unknown navigator 'usbl' (expected gps-ins or dvl)"),
+            std::string::npos)
+      << n.error().detail;
+  const auto m = load_config(write_config("attitude_filter: [ekf]\n"));
+  ASSERT_FALSE(m.has_value());
+  EXPECT_NE(m.error().detail.find("'attitude_filter' expects a name"), std::string::npos);
+}
+
+TEST(NavdConfig, OriginOutOfRangeIsRefused) {
+  const auto c = load_config(write_config("origin_lat_deg: 91\n"));
+  ASSERT_FALSE(c.has_value());
+  EXPECT_NE(c.error().detail.find(":1:17: origin_lat_deg must be in [-90, 90] (got 91)"),
+            std::string::npos)
+      << c.error().detail;
+}
+
+TEST(NavdConfig, HelpListsTheChoices) {
+  const std::string help = config_keys_help();
+  EXPECT_NE(help.find("navigator (default gps-ins)"), std::string::npos);
+  EXPECT_NE(help.find("attitude_filter (default mahony)"), std::string::npos);
+  EXPECT_NE(help.find("eskf_mag_norm_gate"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace nav::dut
