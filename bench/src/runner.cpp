@@ -14,10 +14,13 @@
 #include <deque>
 #include <ctime>
 #include <filesystem>
+#include <fstream>
 #include <memory>
 #include <stdexcept>
 #include <thread>
 #include <unordered_map>
+
+#include <nlohmann/json.hpp>
 
 #include "nav/bench/can_schedule.hpp"
 #include "nav/bench/capture.hpp"
@@ -941,6 +944,7 @@ reports::RunRecord Run::execute() {
 
   rec.scenario_name = sc_.name;
   rec.scenario_file = sc_.file;
+  rec.labels.assign(sc_.labels.begin(), sc_.labels.end());
   rec.mode = sc_.mode == TimeMode::kRealtime ? "realtime" : "lockstep";
   rec.seed = sc_.seed;
   rec.duration_s = to_seconds(sc_.duration);
@@ -1048,7 +1052,54 @@ reports::RunRecord Run::execute() {
   return rec;
 }
 
+/// Every vehicle's truth (primary first); an error about a segment points at it in the file.
+Result<std::vector<emulators::TruthTrajectory>> build_truths(const Scenario& sc) {
+  std::vector<emulators::TruthTrajectory> truths;
+  for (std::size_t v = 0; v <= sc.peers.size(); ++v) {
+    const auto& spec = v == 0 ? sc.trajectory : sc.peers[v - 1].trajectory;
+    const auto& locations = v == 0 ? sc.segment_locations : sc.peers[v - 1].segment_locations;
+    auto truth = emulators::TruthTrajectory::build(spec);
+    if (!truth) {
+      // Errors about a segment ("segment 3 (arc): ...") point at that segment in the file.
+      const std::string& detail = truth.error().detail;
+      std::string where = sc.file + (v == 0 ? std::string(": vehicle.path")
+                                            : ": peers[" + std::to_string(v - 1) +
+                                                  "].vehicle.path");
+      unsigned index = 0;
+      if (std::sscanf(detail.c_str(), "segment %u", &index) == 1 && index < locations.size()) {
+        where = locations[index];
+      }
+      return fail(ErrorCode::kInvalidArgument, where + ": " + detail);
+    }
+    truths.push_back(std::move(*truth));
+  }
+  return truths;
+}
+
+/// Every vehicle's DUT program can be found.
+Result<bool> find_dut_programs(const Scenario& sc) {
+  for (std::size_t v = 0; v <= sc.peers.size(); ++v) {
+    const auto& dut = v == 0 ? sc.dut : sc.peers[v - 1].dut;
+    if (!DutProcess::resolve(dut.command.front())) {
+      const std::string key =
+          v == 0 ? "dut.command" : "peers[" + std::to_string(v - 1) + "].dut.command";
+      return fail(ErrorCode::kNotFound, sc.file + ": " + key + ": program '" +
+                                            dut.command.front() +
+                                            "' not found (looked beside navbench and in PATH)");
+    }
+  }
+  return true;
+}
+
 }  // namespace
+
+Result<Scenario> preflight_scenario(const std::string& path) {
+  auto sc = load_scenario(path);
+  if (!sc) return sc;
+  if (auto t = build_truths(*sc); !t) return tl::unexpected(t.error());
+  if (auto d = find_dut_programs(*sc); !d) return tl::unexpected(d.error());
+  return sc;
+}
 
 int run_scenario(const RunOptions& o) {
   auto sc = load_scenario(o.scenario_path);
@@ -1057,36 +1108,16 @@ int run_scenario(const RunOptions& o) {
     return kExitUsage;
   }
   if (o.mode) sc->mode = *o.mode;
-  std::vector<emulators::TruthTrajectory> truths;
-  for (std::size_t v = 0; v <= sc->peers.size(); ++v) {
-    const auto& spec = v == 0 ? sc->trajectory : sc->peers[v - 1].trajectory;
-    const auto& locations = v == 0 ? sc->segment_locations : sc->peers[v - 1].segment_locations;
-    auto truth = emulators::TruthTrajectory::build(spec);
-    if (!truth) {
-      // Errors about a segment ("segment 3 (arc): ...") point at that segment in the file.
-      const std::string& detail = truth.error().detail;
-      std::string where = sc->file + (v == 0 ? std::string(": vehicle.path")
-                                             : ": peers[" + std::to_string(v - 1) +
-                                                   "].vehicle.path");
-      unsigned index = 0;
-      if (std::sscanf(detail.c_str(), "segment %u", &index) == 1 && index < locations.size()) {
-        where = locations[index];
-      }
-      std::fprintf(stderr, "navbench: %s: %s\n", where.c_str(), detail.c_str());
-      return kExitUsage;
-    }
-    truths.push_back(std::move(*truth));
+  if (o.seed) sc->seed = *o.seed;
+  auto built = build_truths(*sc);
+  if (!built) {
+    std::fprintf(stderr, "navbench: %s\n", built.error().detail.c_str());
+    return kExitUsage;
   }
-  for (std::size_t v = 0; v <= sc->peers.size(); ++v) {
-    const auto& dut = v == 0 ? sc->dut : sc->peers[v - 1].dut;
-    if (!DutProcess::resolve(dut.command.front())) {
-      const std::string key =
-          v == 0 ? "dut.command" : "peers[" + std::to_string(v - 1) + "].dut.command";
-      std::fprintf(stderr, "navbench: %s: %s: program '%s' not found (looked beside "
-                   "navbench and in PATH)\n", sc->file.c_str(), key.c_str(),
-                   dut.command.front().c_str());
-      return kExitUsage;
-    }
+  std::vector<emulators::TruthTrajectory> truths = std::move(*built);
+  if (auto found = find_dut_programs(*sc); !found) {
+    std::fprintf(stderr, "navbench: %s\n", found.error().detail.c_str());
+    return kExitUsage;
   }
   auto lines = open_lines(*sc);
   if (!lines) {

@@ -262,8 +262,16 @@ std::string device_ref(const Field& f, const Scenario& s) {
   return name;
 }
 
-/// Checks the "{port:NAME}" placeholders of one DUT argument.
+/// Checks the "{port:NAME}" and "{scenario_dir}" placeholders of one DUT argument.
 void check_placeholders(const Field& arg, const std::string& text, const Scenario& s) {
+  constexpr std::string_view kDir = "{scenario_dir}";
+  for (auto at = text.find("{scenario"); at != std::string::npos;
+       at = text.find("{scenario", at + 1)) {
+    if (text.compare(at, kDir.size(), kDir) != 0) {
+      arg.fail("unknown placeholder in " + quoted(text) +
+               " (expected {scenario_dir}: the scenario file's folder)");
+    }
+  }
   constexpr std::string_view kOpen = "{port:";
   for (auto at = text.find(kOpen); at != std::string::npos; at = text.find(kOpen, at + 1)) {
     const auto close = text.find('}', at);
@@ -285,7 +293,7 @@ void read_dut(const Field& f, Scenario& s) {
     const std::string text = arg.text("a command-line argument");
     if (dut.command.empty() && text.empty()) arg.fail("expected a program name, got ''");
     check_placeholders(arg, text, s);
-    dut.command.push_back(text);
+    dut.command.push_back(expand_scenario_dir(text, s.dir));
   }
   if (auto v = m.optional("output")) {
     const MapReader o(*v, {"port", "baud"});
@@ -426,6 +434,7 @@ void read_peers(const Field& f, Scenario& s) {
     const MapReader m(item, {"vehicle", "dut"});
     Scenario tmp;
     tmp.file = s.file;
+    tmp.dir = s.dir;
     tmp.seed = s.seed;
     tmp.duration = s.duration;
     tmp.mode = s.mode;
@@ -522,14 +531,51 @@ void read_acoustic(const Field& f, Scenario& s) {
   }
 }
 
+/// The top-level `labels:` map: label name -> one-line, non-empty text, in file order.
+void read_labels(const Field& f, Scenario& s) {
+  if (!f.node().IsMap()) {
+    f.fail("expected a map of label names to values such as {path: circle, attitude: ekf}, "
+           "got " + what_is(f.node()));
+  }
+  std::map<std::string, int> seen;  // name -> 1-based line
+  for (const auto& kv : f.node()) {
+    const Field key(YAML::Node(), kv.first, f.path());
+    const std::string name = key.identifier();
+    if (std::find(kReservedLabelNames.begin(), kReservedLabelNames.end(), name) !=
+        kReservedLabelNames.end()) {
+      key.fail("label name " + quoted(name) +
+               " is reserved (a column of campaign tables); choose another name");
+    }
+    const auto [it, fresh] = seen.emplace(name, kv.first.Mark().line + 1);
+    if (!fresh) {
+      key.fail("duplicate label " + quoted(name) + " (first at line " +
+               std::to_string(it->second) + ")");
+    }
+    const Field value = f.child(kv.first, kv.second);
+    const std::string expected = "a non-empty one-line text such as 'circle'";
+    const std::string text = value.text(expected);
+    const bool one_line = std::none_of(text.begin(), text.end(), [](char c) {
+      return std::iscntrl(static_cast<unsigned char>(c)) != 0;
+    });
+    if (text.empty() || !one_line) value.fail("expected " + expected + ", got " + quoted(text));
+    s.labels.emplace_back(name, text);
+  }
+}
+
+/// The absolute folder of a scenario file (not resolving symbolic links); at the end of the
+/// file, after <filesystem>.
+std::string folder_of(const std::string& file);
+
 Scenario read_scenario(const Field& root, const std::string& file) {
-  const MapReader top(root, {"name", "description", "seed", "duration", "mode", "datum",
-                             "truth_rate", "bench", "vehicle", "dut", "checks", "peers",
-                             "acoustic"});
+  const MapReader top(root, {"name", "description", "labels", "seed", "duration", "mode",
+                             "datum", "truth_rate", "bench", "vehicle", "dut", "checks",
+                             "peers", "acoustic"});
   Scenario s;
   s.file = file;
+  s.dir = folder_of(file);
   s.name = top.required("name").identifier();
   if (auto v = top.optional("description")) s.description = v->text("a text");
+  if (auto v = top.optional("labels")) read_labels(*v, s);
   s.seed =
       top.required("seed").integer<std::uint64_t>(0, std::numeric_limits<std::uint64_t>::max());
   s.duration = top.required("duration").duration(Bound::kPositive);
@@ -568,6 +614,14 @@ Result<std::string> read_file(const std::string& path) {
 
 }  // namespace
 
+std::string expand_scenario_dir(std::string arg, const std::string& dir) {
+  constexpr std::string_view kKey = "{scenario_dir}";
+  for (auto at = arg.find(kKey); at != std::string::npos; at = arg.find(kKey, at + dir.size())) {
+    arg.replace(at, kKey.size(), dir);
+  }
+  return arg;
+}
+
 Result<Scenario> load_scenario(const std::string& path) {
   const auto text = read_file(path);
   if (!text) return tl::unexpected(text.error());
@@ -586,4 +640,22 @@ Result<Scenario> load_scenario(const std::string& path) {
   }
 }
 
+}  // namespace nav::bench
+
+// <filesystem> brings std::quoted, which ADL would prefer to detail::quoted above: included
+// only here, after every use of quoted.
+#include <filesystem>
+
+namespace nav::bench {
+namespace {
+
+std::string folder_of(const std::string& file) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  fs::path p = fs::absolute(fs::path(file), ec);
+  if (ec) p = fs::path(file);
+  return p.lexically_normal().parent_path().string();
+}
+
+}  // namespace
 }  // namespace nav::bench

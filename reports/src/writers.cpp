@@ -65,6 +65,8 @@ void write_summary(const RunRecord& r, const std::string& dir) {
                                          std::to_string(NLOHMANN_JSON_VERSION_MINOR) + "." +
                                          std::to_string(NLOHMANN_JSON_VERSION_PATCH)}};
   j["scenario"] = {{"name", r.scenario_name}, {"file", r.scenario_file}};
+  j["labels"] = nlohmann::json::object();
+  for (const auto& [name, value] : r.labels) j["labels"][name] = value;
   j["seed"] = r.seed;
   j["mode"] = r.mode;
   j["duration_s"] = r.duration_s;

@@ -12,6 +12,7 @@
 //   stop DUT (SIGTERM, SIGKILL) -> judge -> reports -> rename run folder into place
 #pragma once
 
+#include <cstdint>
 #include <optional>
 #include <string>
 
@@ -31,11 +32,17 @@ enum ExitCode : int {
 struct RunOptions {
   std::string scenario_path;
   std::optional<TimeMode> mode;  ///< overrides the scenario's mode
+  std::optional<std::uint64_t> seed;  ///< overrides the scenario's seed
   std::string out_dir;           ///< run folder; default runs/<name>-<UTC time>
   bool quiet = false;            ///< no progress lines
 };
 
 /// Runs a scenario; prints the verdict; returns the exit code.
 int run_scenario(const RunOptions& options);
+
+/// Loads a scenario and checks what `run` checks before it opens any line: the schema, every
+/// vehicle's path (TruthTrajectory::build) and every DUT program (found beside navbench or in
+/// PATH). The error detail is the one line `run` prints before exiting with kExitUsage.
+Result<Scenario> preflight_scenario(const std::string& path);
 
 }  // namespace nav::bench

@@ -2,10 +2,13 @@
 // A scenario as loaded and validated from YAML (docs/scenario.md has the schema).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
+#include <utility>
 #include <vector>
 
 #include "nav/common/geodesy.hpp"
@@ -75,7 +78,9 @@ const char* device_type_name(DeviceSpec::Type t);
 
 /// The DUT and how to talk to it.
 struct DutSpec {
-  std::vector<std::string> command;  ///< argv; "{port:NAME}" is replaced by NAME's port path
+  /// argv; "{port:NAME}" is replaced by NAME's port path when the run starts.
+  /// "{scenario_dir}" is already replaced here (at load time) by Scenario::dir.
+  std::vector<std::string> command;
   std::string output_port = "pty";   ///< where the DUT writes ("pty" or a device path)
   int output_baud = 115200;          ///< [bit/s]
   std::string trigger;               ///< device whose messages the DUT answers
@@ -113,10 +118,20 @@ struct CanBusSpec {
   double bitrate_bps = 250000;  ///< nominal bit rate [bit/s]
 };
 
+/// Top-level `labels`: label name -> value, in file order (summary.json, campaign tables).
+using Labels = std::vector<std::pair<std::string, std::string>>;
+
+/// Names a label may not have: the other columns of a campaign's comparison table.
+inline constexpr std::array<std::string_view, 7> kReservedLabelNames{
+    "scenario",        "runs",  "passed", "endpoint_error_mean_m", "endpoint_error_std_m",
+    "endpoint_error_min_m", "endpoint_error_max_m"};
+
 struct Scenario {
   std::string file;          ///< path it was loaded from
+  std::string dir;           ///< absolute path of the folder holding `file` ("{scenario_dir}")
   std::string name;
   std::string description;
+  Labels labels;             ///< top-level `labels`, in file order (may be empty)
   std::uint64_t seed = 0;
   Duration duration{};
   TimeMode mode = TimeMode::kRealtime;
@@ -139,6 +154,9 @@ struct Scenario {
   /// of TruthTrajectory::build naming "segment i" (0-based) can point into the file.
   std::vector<std::string> segment_locations;
 };
+
+/// arg with every "{scenario_dir}" replaced by dir (the placeholder of DUT arguments).
+std::string expand_scenario_dir(std::string arg, const std::string& dir);
 
 /// Loads and validates a scenario. On failure the error detail is one line
 /// "file:line:col: what was expected".

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "nav/common/frames.hpp"
@@ -121,6 +122,8 @@ std::string fault_text(const FaultRow& f);
 
 struct RunRecord {
   std::string scenario_name, scenario_file, mode, run_dir;
+  /// The scenario's labels (name, value), in file order (summary.json "labels").
+  std::vector<std::pair<std::string, std::string>> labels;
   std::uint64_t seed = 0;
   double duration_s = 0.0;
   std::string started_utc;          ///< ISO 8601 wall time of the start

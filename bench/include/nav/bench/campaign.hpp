@@ -1,0 +1,120 @@
+// SPDX-License-Identifier: MIT
+// `navbench campaign`: every scenario × a range of seeds, each run a child `navbench run`,
+// then one comparison table (scenario rows, label columns, endpoint error statistics).
+//
+//   campaign (this process)                          children (at most --jobs at a time)
+//   -----------------------                          ----------------------------------
+//   preflight every scenario (exit 2, nothing run)
+//   mkdir DIR, DIR/runs
+//   spawn /proc/self/exe run SCEN --seed s ... ---->  navbench run -> DIR/runs/<name>-s<seed>/
+//   waitpid (polled) <------------------------------  exit code
+//   read its summary.json, one progress line
+//   SIGINT/SIGTERM: spawn no more, SIGTERM the running children, wait for them
+//   write campaign.json, comparison.csv, comparison.md (temp + rename); table to stdout
+//
+// The pure parts (statistics, table rows and their CSV and markdown forms, reading a run's
+// endpoint error from its summary.json) are declared here for the unit tests.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "nav/bench/scenario.hpp"
+
+namespace nav::bench {
+
+struct CampaignOptions {
+  std::vector<std::string> scenarios;  ///< scenario files, in table order
+  std::uint64_t seeds = 0;             ///< runs per scenario (>= 1)
+  std::uint64_t first_seed = 1;        ///< seeds first_seed .. first_seed + seeds - 1
+  TimeMode mode = TimeMode::kLockstep;
+  unsigned jobs = 1;                   ///< runs at a time
+  std::string out_dir;                 ///< campaign folder; must not exist
+  bool quiet = false;                  ///< no progress lines
+  std::vector<std::string> command;    ///< navbench's argv, recorded in the outputs
+};
+
+/// Runs a campaign; returns the exit code (0, 1, 2, 3, 4 as for `run`, worst run wins;
+/// 130 when interrupted by SIGINT/SIGTERM).
+int run_campaign(const CampaignOptions& options);
+
+/// Exit code of an interrupted campaign (128 + SIGINT, as shells report it).
+inline constexpr int kExitInterrupted = 130;
+
+// ---------------------------------------------------------------------------------------------
+// Pure parts.
+
+/// Sample statistics of a set of values; NaN where undefined (std needs n >= 2).
+struct SampleStats {
+  std::size_t n = 0;
+  double mean = std::numeric_limits<double>::quiet_NaN();
+  double stddev = std::numeric_limits<double>::quiet_NaN();  ///< sample std (n - 1)
+  double min = std::numeric_limits<double>::quiet_NaN();
+  double max = std::numeric_limits<double>::quiet_NaN();
+};
+
+SampleStats sample_stats(const std::vector<double>& values);
+
+/// One run of a campaign, as planned and, once finished, as it ended.
+struct CampaignRun {
+  std::string scenario;       ///< scenario name
+  std::uint64_t seed = 0;
+  bool finished = false;      ///< false: interrupted, or never started
+  bool started = false;
+  int exit_code = -1;         ///< the child's exit code (finished runs)
+  std::string verdict;        ///< from its summary.json, or what went wrong
+  std::optional<double> endpoint_error_m;  ///< the endpoint_error check's value [m]
+  std::string run_folder;     ///< relative to the campaign folder: runs/<name>-s<seed>
+  double wall_time_s = 0.0;
+};
+
+/// One row of the comparison table: one scenario over its finished runs.
+struct ComparisonRow {
+  std::string scenario;
+  Labels labels;
+  std::size_t runs = 0;    ///< finished runs
+  std::size_t passed = 0;  ///< of them with exit code 0
+  /// Endpoint errors of the finished runs that reached the end of the scenario (exit 0 or 1)
+  /// and measured one [m].
+  SampleStats endpoint;
+};
+
+/// One row per scenario (in the order given), from the finished runs of that scenario.
+std::vector<ComparisonRow> comparison_rows(
+    const std::vector<std::pair<std::string, Labels>>& scenarios,
+    const std::vector<CampaignRun>& runs);
+
+/// Label names over all rows, in order of first appearance.
+std::vector<std::string> label_columns(const std::vector<ComparisonRow>& rows);
+
+/// CSV (RFC 4180, header line): label columns, scenario, runs, passed,
+/// endpoint_error_{mean,std,min,max}_m with 3 decimals; an undefined value is an empty field.
+std::string comparison_csv(const std::vector<ComparisonRow>& rows);
+
+/// A markdown table: label columns, scenario, runs, passed, "mean ± std", min, max in metres
+/// with 3 decimals; an undefined value is "—".
+std::string comparison_markdown(const std::vector<ComparisonRow>& rows);
+
+/// The value [m] of the check named check_name in a run's summary.json, when that check was
+/// judged and measured something (a check with no solution to judge failed with value 0).
+std::optional<double> endpoint_error_from_summary(const nlohmann::json& summary,
+                                                  const std::string& check_name);
+
+/// The campaign's exit code from its runs' exit codes: worst wins, 4 > 3 > 1 > 0; a run that
+/// ended with 2 (or anything else) counts as a bench error (3).
+int campaign_exit_code(const std::vector<int>& run_exit_codes);
+
+/// What an exit code of `navbench run` means ("a check failed", ...).
+std::string exit_code_meaning(int code);
+
+/// argv as one shell-quoted line.
+std::string command_line(const std::vector<std::string>& argv);
+
+}  // namespace nav::bench
