@@ -168,8 +168,9 @@ std::string config_keys_help() {
                   kAttitudeKey + " (default mahony): attitude source, one of " +
                   estimator::attitude_filter_names() +
                   " (raw/ekf/ukf/cf: paper P0's no-filtering, Euler EKF, Euler UKF and PI "
-                  "complementary filter; eskf: error-state quaternion EKF with gyro bias and a "
-                  "gated magnetometer)\n";
+                  "complementary filter; eskf: error-state quaternion EKF with gyro bias, "
+                  "hard iron (given eskf_mag_field_*_t) and a gated heading-only "
+                  "magnetometer)\n";
   for (const auto& f : estimator::param_fields()) {
     char value[32];
     std::snprintf(value, sizeof value, "%g", defaults.*(f.member));

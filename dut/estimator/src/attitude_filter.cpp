@@ -65,10 +65,14 @@ EskfParams eskf_params(const FilterParams& p) {
   e.gyro_bias_limit_radps = p.gyro_bias_limit_radps;
   e.accel_std_mps2 = p.eskf_accel_std_mps2;
   e.accel_gate_mps2 = p.accel_gate_mps2;
-  e.mag_heading_std_rad = p.eskf_mag_heading_std_rad;
+  e.mag_field_n_tesla =
+      Vec3(p.eskf_mag_field_north_t, p.eskf_mag_field_east_t, p.eskf_mag_field_down_t);
+  e.initial_hard_iron_std_tesla = p.eskf_initial_hard_iron_std_t;
+  e.hard_iron_walk_tesla_rts = p.eskf_hard_iron_walk_t_rts;
+  e.mag_std_tesla = p.eskf_mag_std_t;
   e.mag_norm_gate = p.eskf_mag_norm_gate;
   e.mag_inclination_gate_rad = p.eskf_mag_inclination_gate_rad;
-  e.mag_heading_gate_nis = p.eskf_mag_heading_gate_nis;
+  e.mag_gate_nis = p.eskf_mag_gate_nis;
   e.declination_rad = p.magnetic_declination_rad;
   return e;
 }

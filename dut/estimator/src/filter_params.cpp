@@ -69,14 +69,24 @@ constexpr ParamField kFields[] = {
      "eskf: initial gyro bias std per axis [rad/s]"},
     {"eskf_accel_std_mps2", &FilterParams::eskf_accel_std_mps2,
      "eskf: accelerometer std per axis [m/s^2]"},
-    {"eskf_mag_heading_std_rad", &FilterParams::eskf_mag_heading_std_rad,
-     "eskf: magnetic heading std [rad]"},
+    {"eskf_mag_field_north_t", &FilterParams::eskf_mag_field_north_t,
+     "eskf: local Earth field North (WMM), [-1e-3, 1e-3], all three 0 = unknown [T]"},
+    {"eskf_mag_field_east_t", &FilterParams::eskf_mag_field_east_t,
+     "eskf: local Earth field East, [-1e-3, 1e-3] [T]"},
+    {"eskf_mag_field_down_t", &FilterParams::eskf_mag_field_down_t,
+     "eskf: local Earth field Down, [-1e-3, 1e-3] [T]"},
+    {"eskf_initial_hard_iron_std_t", &FilterParams::eskf_initial_hard_iron_std_t,
+     "eskf: initial hard-iron std per body axis, 0 = not estimated [T]"},
+    {"eskf_hard_iron_walk_t_rts", &FilterParams::eskf_hard_iron_walk_t_rts,
+     "eskf: hard-iron random walk [T/sqrt(s)]"},
+    {"eskf_mag_std_t", &FilterParams::eskf_mag_std_t,
+     "eskf: magnetometer std per axis (3-D field update) [T]"},
     {"eskf_mag_norm_gate", &FilterParams::eskf_mag_norm_gate,
-     "eskf: refuse the magnetometer when |m| is off its reference by this fraction, 0 = off [-]"},
+     "eskf: refuse the magnetometer when |m-h| is off |m_n| by this fraction, 0 = off [-]"},
     {"eskf_mag_inclination_gate_rad", &FilterParams::eskf_mag_inclination_gate_rad,
-     "eskf: refuse the magnetometer when the inclination is off by this, 0 = off [rad]"},
-    {"eskf_mag_heading_gate_nis", &FilterParams::eskf_mag_heading_gate_nis,
-     "eskf: NIS gate of magnetic heading updates, 0 = off [-]"},
+     "eskf: refuse the magnetometer when the inclination of m-h is off by this, 0 = off [rad]"},
+    {"eskf_mag_gate_nis", &FilterParams::eskf_mag_gate_nis,
+     "eskf: NIS gate of magnetometer updates (3 dof), 0 = off [-]"},
 };
 
 /// A closed range a field must lie in (the open lower end of a period is checked apart).
@@ -127,10 +137,12 @@ Result<void> validate(const FilterParams& p) {
       {"eskf_initial_yaw_std_rad", p.eskf_initial_yaw_std_rad, true},
       {"eskf_initial_gyro_bias_std_radps", p.eskf_initial_gyro_bias_std_radps, true},
       {"eskf_accel_std_mps2", p.eskf_accel_std_mps2, true},
-      {"eskf_mag_heading_std_rad", p.eskf_mag_heading_std_rad, true},
+      {"eskf_initial_hard_iron_std_t", p.eskf_initial_hard_iron_std_t, false},
+      {"eskf_hard_iron_walk_t_rts", p.eskf_hard_iron_walk_t_rts, false},
+      {"eskf_mag_std_t", p.eskf_mag_std_t, true},
       {"eskf_mag_norm_gate", p.eskf_mag_norm_gate, false},
       {"eskf_mag_inclination_gate_rad", p.eskf_mag_inclination_gate_rad, false},
-      {"eskf_mag_heading_gate_nis", p.eskf_mag_heading_gate_nis, false},
+      {"eskf_mag_gate_nis", p.eskf_mag_gate_nis, false},
   };
   for (const Rule& r : rules) {
     const bool ok = r.strictly_positive ? r.value > 0.0 : r.value >= 0.0;
@@ -148,6 +160,10 @@ Result<void> validate(const FilterParams& p) {
       {"origin_lat_deg", p.origin_lat_deg, -90.0, 90.0},
       {"origin_lon_deg", p.origin_lon_deg, -180.0, 180.0},
       {"origin_depth_m", p.origin_depth_m, -10000.0, 12000.0},
+      // The Earth's field is below 70 uT: a bound of 1 mT catches a value written in uT.
+      {"eskf_mag_field_north_t", p.eskf_mag_field_north_t, -1e-3, 1e-3},
+      {"eskf_mag_field_east_t", p.eskf_mag_field_east_t, -1e-3, 1e-3},
+      {"eskf_mag_field_down_t", p.eskf_mag_field_down_t, -1e-3, 1e-3},
   };
   for (const RangeRule& r : ranges) {
     if (r.value < r.min || r.value > r.max) {

@@ -243,7 +243,7 @@ TEST(FilterParams, ValidateNamesTheField) {
   const auto r = validate(p);
   ASSERT_FALSE(r.has_value());
   EXPECT_EQ(r.error().detail, "gps_horizontal_std_m must be > 0 (got 0)");
-  EXPECT_EQ(param_fields().size(), 33u);
+  EXPECT_EQ(param_fields().size(), 38u);
 }
 
 TEST(FilterParams, DepthRanges) {

@@ -2,14 +2,15 @@
 // One interface for every attitude source navd can run, so the navigators (GPS/INS and DVL
 // dead reckoning) are written once and the source is chosen by configuration:
 //
-//   | kind    | config name | what                                                     | file                     |
-//   |---------|-------------|----------------------------------------------------------|--------------------------|
-//   | kMahony | mahony      | quaternion explicit complementary filter, gyro bias      | complementary_attitude.hpp |
-//   | kRaw    | raw         | P0 "no filtering": attitude from accel + mag (eqs 1-4)   | euler_attitude.hpp       |
-//   | kEkf    | ekf         | P0 Euler-angle EKF (Table 1, Table 6 parameters)         | euler_attitude.hpp       |
-//   | kUkf    | ukf         | P0 Euler-angle UKF (Table 2, kappa = 1.7, Table 7)       | euler_attitude.hpp       |
-//   | kCf     | cf          | P0 PI complementary filter (Table 3, Table 8)            | euler_attitude.hpp       |
-//   | kEskf   | eskf        | error-state quaternion EKF: gyro bias, gated magnetometer, DVL-compensated accelerometer | quat_eskf.hpp |
+//   kMahony "mahony"  quaternion explicit complementary filter with gyro bias
+//                     (complementary_attitude.hpp)
+//   kRaw    "raw"     P0 "no filtering": attitude from accel + mag, eqs 1-4 (euler_attitude.hpp)
+//   kEkf    "ekf"     P0 Euler-angle EKF, Table 1 with Table 6 parameters (euler_attitude.hpp)
+//   kUkf    "ukf"     P0 Euler-angle UKF, Table 2, kappa = 1.7, Table 7 (euler_attitude.hpp)
+//   kCf     "cf"      P0 PI complementary filter, Table 3 with Table 8 (euler_attitude.hpp)
+//   kEskf   "eskf"    error-state quaternion EKF: gyro bias and magnetometer hard iron
+//                     estimated, gated heading-only 3-D magnetometer, DVL-compensated
+//                     accelerometer (quat_eskf.hpp)
 //
 // Every filter is pure math driven by the sample interval dt (from the AHRS timer), never the
 // wall clock. A filter never throws or aborts on data: NaN/Inf input is rejected (state

@@ -73,29 +73,45 @@ struct FilterParams {
   double origin_depth_m = 0.0;
 
   // --- error-state quaternion EKF (quat_eskf.hpp); also uses accel_gate_mps2,
-  //     gyro_bias_limit_radps and magnetic_declination_rad ---
+  //     gyro_bias_limit_radps and magnetic_declination_rad (the latter only while the Earth
+  //     field is unknown: a known field carries its own declination) ---
   /// Gyro white-noise density (angle random walk) [rad/s/sqrt(Hz)].
   double eskf_gyro_noise_radps_rthz = 5.0e-4;
   /// Gyro bias random-walk density [rad/s^2/sqrt(Hz)].
   double eskf_gyro_bias_walk_radps2_rthz = 2.0e-6;
   /// Initial roll and pitch standard deviation [rad].
   double eskf_initial_tilt_std_rad = 0.05;
-  /// Initial yaw standard deviation [rad].
-  double eskf_initial_yaw_std_rad = 0.2;
+  /// Initial yaw standard deviation; with the hard iron estimated it must cover the hard
+  /// iron's heading error, about eskf_initial_hard_iron_std_t / |horizontal field| [rad].
+  double eskf_initial_yaw_std_rad = 0.1;
   /// Initial gyro bias standard deviation per axis [rad/s].
   double eskf_initial_gyro_bias_std_radps = 0.005;
   /// Accelerometer (gravity direction) standard deviation per axis [m/s^2].
   double eskf_accel_std_mps2 = 0.1;
-  /// Magnetic heading standard deviation [rad].
-  double eskf_mag_heading_std_rad = 0.05;
-  /// The magnetometer is refused when |m| differs from its reference by more than this
-  /// fraction; 0 = no magnitude gate [-].
+  /// Local Earth magnetic field, North component (e.g. from the World Magnetic Model) [T].
+  /// All three components 0 = unknown: the field is taken from the first sample and the hard
+  /// iron is not estimated (the magnetometer is then a heading reference only).
+  double eskf_mag_field_north_t = 0.0;
+  /// Local Earth magnetic field, East component [T] (see eskf_mag_field_north_t).
+  double eskf_mag_field_east_t = 0.0;
+  /// Local Earth magnetic field, Down component [T] (see eskf_mag_field_north_t).
+  double eskf_mag_field_down_t = 0.0;
+  /// Initial standard deviation of each axis of the magnetometer hard iron (body frame); 0 =
+  /// the hard iron is not estimated [T].
+  double eskf_initial_hard_iron_std_t = 3.0e-6;
+  /// Random-walk density of the hard iron [T/sqrt(s)].
+  double eskf_hard_iron_walk_t_rts = 1.0e-9;
+  /// Magnetometer standard deviation per axis (3-D field update); deliberately above the
+  /// sensor's white noise (quat_eskf.hpp, E12) [T].
+  double eskf_mag_std_t = 1.0e-6;
+  /// The magnetometer is refused when |m - h| differs from |m_n| by more than this fraction
+  /// (widened while h is uncertain, quat_eskf.hpp E8a); 0 = no magnitude gate [-].
   double eskf_mag_norm_gate = 0.01;
-  /// The magnetometer is refused when the field's inclination differs from its reference by
-  /// more than this; 0 = no inclination gate [rad].
+  /// The magnetometer is refused when the inclination of m - h differs from that of m_n by
+  /// more than this (widened while h is uncertain); 0 = no inclination gate [rad].
   double eskf_mag_inclination_gate_rad = 0.02;
-  /// Chi-square gate on the NIS of a magnetic heading update (1 dof); 0 = off [-].
-  double eskf_mag_heading_gate_nis = 0.0;
+  /// Chi-square gate on the NIS of a magnetometer update (3 dof); 0 = off [-].
+  double eskf_mag_gate_nis = 0.0;
 };
 
 /// One parameter by name, for config files and help text.
