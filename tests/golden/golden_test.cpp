@@ -1,0 +1,131 @@
+// SPDX-License-Identifier: MIT
+// Golden lockstep regression of the P0 pool scenarios (tests/golden/CMakeLists.txt).
+//
+// Each scenario runs once in lockstep (bit-reproducible); the DUT's output line is taken from
+// the run's capture-rx.log and summarised as: the number of solutions, a 64-bit FNV-1a digest
+// of every output byte, and every 200th $PNVBSOL line plus the last, so a reviewer sees where
+// a change shows. With NAV_UPDATE_GOLDEN=1 in the environment the test writes the golden file
+// instead of comparing (scripts/update-golden does that for every scenario).
+#include <algorithm>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "../integration/navbench_cli.hpp"
+#include "nav/bench/decode.hpp"
+
+namespace nav::testing {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr std::size_t kEvery = 200;  // solutions between two quoted lines
+
+/// The P0 pool scenarios, by name (scenarios/p0-pool-*.yaml), sorted.
+std::vector<std::string> golden_scenarios() {
+  std::vector<std::string> names;
+  for (const auto& e : fs::directory_iterator(source_path("scenarios"))) {
+    const std::string stem = e.path().stem().string();
+    if (e.path().extension() == ".yaml" && stem.rfind("p0-pool-", 0) == 0) names.push_back(stem);
+  }
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+std::uint64_t fnv1a64(const std::string& bytes) {
+  std::uint64_t h = 0xcbf29ce484222325ull;
+  for (const unsigned char c : bytes) {
+    h ^= c;
+    h *= 0x100000001b3ull;
+  }
+  return h;
+}
+
+/// The golden text of one run's DUT output.
+std::string golden_text(const std::string& scenario, const std::string& output) {
+  std::vector<std::string> lines;
+  std::istringstream in(output);
+  for (std::string l; std::getline(in, l);) {
+    if (!l.empty() && l.back() == '\r') l.pop_back();
+    if (l.rfind("$PNVBSOL,", 0) == 0) lines.push_back(l);
+  }
+  char digest[32];
+  std::snprintf(digest, sizeof digest, "%016llx",
+                static_cast<unsigned long long>(fnv1a64(output)));
+  std::ostringstream o;
+  o << "# Golden lockstep output of scenarios/" << scenario << ".yaml (navd's $PNVBSOL lines).\n"
+    << "# Regenerate with scripts/update-golden after a deliberate change, in the same commit.\n"
+    << "scenario " << scenario << "\n"
+    << "solutions " << lines.size() << "\n"
+    << "output_bytes " << output.size() << "\n"
+    << "output_fnv1a64 " << digest << "\n";
+  for (std::size_t i = 0; i < lines.size(); ++i) {
+    if (i % kEvery == 0 || i + 1 == lines.size()) o << i << ' ' << lines[i] << '\n';
+  }
+  return o.str();
+}
+
+/// The first line where a and b differ, for the failure message.
+std::string first_difference(const std::string& a, const std::string& b) {
+  std::istringstream ia(a), ib(b);
+  std::string la, lb;
+  for (int n = 1;; ++n) {
+    const bool ea = !std::getline(ia, la);
+    const bool eb = !std::getline(ib, lb);
+    if (ea && eb) return "no difference";
+    if (ea || eb || la != lb) {
+      return "line " + std::to_string(n) + ":\n  golden: " + (ea ? "<end>" : la) +
+             "\n  now:    " + (eb ? "<end>" : lb);
+    }
+  }
+}
+
+class Golden : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(Golden, LockstepOutputMatchesTheGoldenFile) {
+  const std::string scenario = GetParam();
+  const fs::path dir = fresh_dir("golden-" + scenario);
+  const fs::path run = dir / "run";
+  const ProcessResult r =
+      run_navbench({"run", source_path("scenarios/" + scenario + ".yaml"), "--mode", "lockstep",
+                    "-q", "-o", run.string()},
+                   dir);
+  ASSERT_TRUE(r.exit_code == 0 || r.exit_code == 1) << r.err;  // a check may fail; not a crash
+  const std::string capture = slurp(run / "capture-rx.log");
+  const auto bytes = bench::bytes_from_capture(capture, "output", (run / "capture-rx.log").string());
+  ASSERT_TRUE(bytes.has_value()) << bytes.error().detail;
+  const std::string now = golden_text(scenario, std::string(bytes->begin(), bytes->end()));
+
+  const fs::path golden = source_path("tests/golden/" + scenario + ".golden");
+  const char* update = std::getenv("NAV_UPDATE_GOLDEN");
+  if (update != nullptr && std::string(update) == "1") {
+    std::ofstream(golden, std::ios::binary) << now;
+    GTEST_SKIP() << "wrote " << golden;
+  }
+  ASSERT_TRUE(fs::exists(golden)) << golden << " is missing: run scripts/update-golden";
+  const std::string expected = slurp(golden);
+  EXPECT_TRUE(now == expected) << scenario << ": navd's lockstep output changed at "
+                           << first_difference(expected, now)
+                           << "\nIf the change is deliberate, run scripts/update-golden and "
+                              "commit the golden files with it.";
+  fs::remove_all(dir);
+}
+
+INSTANTIATE_TEST_SUITE_P(P0Pool, Golden, ::testing::ValuesIn(golden_scenarios()),
+                         [](const ::testing::TestParamInfo<std::string>& i) {
+                           std::string n = i.param;
+                           for (char& c : n) {
+                             if (c == '-') c = '_';
+                           }
+                           return n;
+                         });
+
+}  // namespace
+}  // namespace nav::testing
