@@ -2,9 +2,7 @@
 // `navbench campaign`: the runs as child processes, then the outputs (campaign.hpp).
 #include "nav/bench/campaign.hpp"
 
-#include <fcntl.h>
 #include <signal.h>
-#include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -22,9 +20,8 @@
 #include <stdexcept>
 #include <thread>
 
+#include "nav/bench/dut_process.hpp"
 #include "nav/bench/runner.hpp"
-
-extern char** environ;
 
 namespace nav::bench {
 namespace {
@@ -71,35 +68,10 @@ struct Child {
   Clock::time_point start;
 };
 
-/// Starts `navbench run ...` (this very binary) with stdin from /dev/null, stdout and stderr
-/// to log, in its own process group (a terminal's ^C reaches the campaign only, which
-/// forwards SIGTERM), with default signal handling.
+/// Starts `navbench run ...` (this very binary) with stdout and stderr to log, in its own
+/// process group (a terminal's ^C reaches the campaign only, which forwards SIGTERM).
 Result<pid_t> spawn_run(const std::vector<std::string>& argv, const std::string& log) {
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
-  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log.c_str(),
-                                   O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
-  posix_spawnattr_t attr;
-  posix_spawnattr_init(&attr);
-  sigset_t none, all;
-  sigemptyset(&none);
-  sigfillset(&all);
-  posix_spawnattr_setsigmask(&attr, &none);
-  posix_spawnattr_setsigdefault(&attr, &all);
-  posix_spawnattr_setpgroup(&attr, 0);
-  posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETSIGMASK | POSIX_SPAWN_SETSIGDEF |
-                                      POSIX_SPAWN_SETPGROUP);
-  std::vector<char*> args;
-  for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
-  args.push_back(nullptr);
-  pid_t pid = -1;
-  const int rc = ::posix_spawn(&pid, "/proc/self/exe", &actions, &attr, args.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
-  posix_spawnattr_destroy(&attr);
-  if (rc != 0) return tl::unexpected(io_error("cannot start navbench run", rc));
-  return pid;
+  return spawn_logged("/proc/self/exe", argv, log, LogMode::kTruncate);
 }
 
 /// Writes text to path through path.tmp and a rename.

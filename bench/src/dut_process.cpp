@@ -49,21 +49,16 @@ std::optional<std::string> DutProcess::resolve(const std::string& program) {
   return std::nullopt;
 }
 
-Result<DutProcess> DutProcess::start(const std::vector<std::string>& argv,
-                                     const std::string& log_path) {
-  if (argv.empty()) return fail(ErrorCode::kInvalidArgument, "empty DUT command");
-  const auto program = resolve(argv[0]);
-  if (!program) return fail(ErrorCode::kNotFound, "DUT program not found: " + argv[0]);
-
+Result<pid_t> spawn_logged(const std::string& program, const std::vector<std::string>& argv,
+                           const std::string& log_path, LogMode mode) {
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
   posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
-  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log_path.c_str(),
-                                   O_WRONLY | O_CREAT | O_APPEND, 0644);
+  const int log_flags = O_WRONLY | O_CREAT | (mode == LogMode::kAppend ? O_APPEND : O_TRUNC);
+  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log_path.c_str(), log_flags, 0644);
   posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
   posix_spawnattr_t attr;
   posix_spawnattr_init(&attr);
-  // The child gets default signal handling and its own process group.
   sigset_t none, all;
   sigemptyset(&none);
   sigfillset(&all);
@@ -72,16 +67,26 @@ Result<DutProcess> DutProcess::start(const std::vector<std::string>& argv,
   posix_spawnattr_setpgroup(&attr, 0);
   posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETSIGMASK | POSIX_SPAWN_SETSIGDEF |
                                       POSIX_SPAWN_SETPGROUP);
-
   std::vector<char*> args;
   for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
   args.push_back(nullptr);
   pid_t pid = -1;
-  const int rc = ::posix_spawn(&pid, program->c_str(), &actions, &attr, args.data(), environ);
+  const int rc = ::posix_spawn(&pid, program.c_str(), &actions, &attr, args.data(), environ);
   posix_spawn_file_actions_destroy(&actions);
   posix_spawnattr_destroy(&attr);
-  if (rc != 0) return tl::unexpected(io_error("cannot start " + *program, rc));
-  return DutProcess(pid);
+  if (rc != 0) return tl::unexpected(io_error("cannot start " + program, rc));
+  return pid;
+}
+
+Result<DutProcess> DutProcess::start(const std::vector<std::string>& argv,
+                                     const std::string& log_path) {
+  if (argv.empty()) return fail(ErrorCode::kInvalidArgument, "empty DUT command");
+  const auto program = resolve(argv[0]);
+  if (!program) return fail(ErrorCode::kNotFound, "DUT program not found: " + argv[0]);
+
+  const auto pid = spawn_logged(*program, argv, log_path, LogMode::kAppend);
+  if (!pid) return tl::unexpected(pid.error());
+  return DutProcess(*pid);
 }
 
 DutProcess::DutProcess(DutProcess&& o) noexcept

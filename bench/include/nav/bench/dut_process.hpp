@@ -13,6 +13,15 @@
 
 namespace nav::bench {
 
+/// How spawn_logged() opens the log.
+enum class LogMode { kAppend, kTruncate };
+
+/// Starts `program` (a path) with `argv` (no shell), stdin from /dev/null, stdout and stderr
+/// to log_path, default signal handling and its own process group (a terminal's ^C then
+/// reaches the bench only, which stops the child itself). Returns the child's pid.
+Result<pid_t> spawn_logged(const std::string& program, const std::vector<std::string>& argv,
+                           const std::string& log_path, LogMode mode);
+
 class DutProcess {
  public:
   /// Starts argv[0] (a path, or a name looked up next to navbench, then in PATH) with
