@@ -55,6 +55,8 @@ class MahonyAttitude final : public AttitudeFilter {
   double declination_rad_;
 };
 
+}  // namespace
+
 EskfParams eskf_params(const FilterParams& p) {
   EskfParams e;
   e.gyro_noise_radps_rthz = p.eskf_gyro_noise_radps_rthz;
@@ -76,8 +78,6 @@ EskfParams eskf_params(const FilterParams& p) {
   e.declination_rad = p.magnetic_declination_rad;
   return e;
 }
-
-}  // namespace
 
 std::string_view attitude_filter_name(AttitudeFilterKind kind) {
   for (const auto& k : kKinds) {

@@ -1011,5 +1011,28 @@ TEST(QuatEskfHealth, RandomStepsKeepCovarianceHealthyWhileEstimatingTheHardIron)
   }
 }
 
+// GIVEN navd's default FilterParams THEN they describe exactly the default EskfParams (the
+// two sets of defaults live in two structs; this keeps them equal).
+TEST(QuatEskfParams, FilterParamsDefaultsMapOntoTheEskfDefaults) {
+  const EskfParams mapped = eskf_params(FilterParams{});
+  const EskfParams d;
+  EXPECT_EQ(mapped.gyro_noise_radps_rthz, d.gyro_noise_radps_rthz);
+  EXPECT_EQ(mapped.gyro_bias_walk_radps2_rthz, d.gyro_bias_walk_radps2_rthz);
+  EXPECT_EQ(mapped.initial_tilt_std_rad, d.initial_tilt_std_rad);
+  EXPECT_EQ(mapped.initial_yaw_std_rad, d.initial_yaw_std_rad);
+  EXPECT_EQ(mapped.initial_gyro_bias_std_radps, d.initial_gyro_bias_std_radps);
+  EXPECT_EQ(mapped.gyro_bias_limit_radps, d.gyro_bias_limit_radps);
+  EXPECT_EQ(mapped.accel_std_mps2, d.accel_std_mps2);
+  EXPECT_EQ(mapped.accel_gate_mps2, d.accel_gate_mps2);
+  EXPECT_EQ(mapped.mag_field_n_tesla, d.mag_field_n_tesla);
+  EXPECT_EQ(mapped.initial_hard_iron_std_tesla, d.initial_hard_iron_std_tesla);
+  EXPECT_EQ(mapped.hard_iron_walk_tesla_rts, d.hard_iron_walk_tesla_rts);
+  EXPECT_EQ(mapped.mag_std_tesla, d.mag_std_tesla);
+  EXPECT_EQ(mapped.mag_norm_gate, d.mag_norm_gate);
+  EXPECT_EQ(mapped.mag_inclination_gate_rad, d.mag_inclination_gate_rad);
+  EXPECT_EQ(mapped.mag_gate_nis, d.mag_gate_nis);
+  EXPECT_EQ(mapped.declination_rad, d.declination_rad);
+}
+
 }  // namespace
 }  // namespace nav::estimator

@@ -122,6 +122,11 @@ struct EskfParams {
   double declination_rad = 0.0;  ///< east positive [rad]; used only when m_n is unknown
 };
 
+/// The EskfParams that navd's FilterParams (eskf_* fields, accel_gate_mps2,
+/// gyro_bias_limit_radps, magnetic_declination_rad) describe; FilterParams{} maps onto
+/// EskfParams{} (a test keeps the two sets of defaults equal).
+EskfParams eskf_params(const FilterParams& p);
+
 /// Which measurements the last step fused (for tests and diagnostics).
 struct EskfStepInfo {
   UpdateStatus accel = UpdateStatus::kRejectedInvalid;  ///< kRejectedGate when gated out
