@@ -105,7 +105,6 @@ NavdApp::NavdApp(const NavdOptions& options, const NavdConfig& config,
       gps_decoder_(&protocols::nmea::parse, static_cast<std::uint8_t>('$'), kInputBufferBytes),
       out_(output_, kOutputQueueBytes),
       params_(config.filter),
-      navigator_kind_(config.navigator),
       can_(std::move(can)),
       can_open_(can_.has_value()) {
   const estimator::FilterParams& params = config.filter;

@@ -176,7 +176,6 @@ class NavdApp {
   std::optional<ModemLink> modem_link_;  ///< set with modem_
   OutputQueue out_;
   estimator::FilterParams params_;
-  NavigatorKind navigator_kind_;
   /// Exactly one of the two is set, by the config's `navigator`.
   std::optional<estimator::Navigator> gps_nav_;
   std::optional<estimator::DvlNavigator> dvl_nav_;

@@ -34,6 +34,7 @@ void Navigator::add_depth(double depth_m) { enqueue(DepthMeasurement{depth_m}); 
 
 void Navigator::on_ahrs(const AhrsSample& s) {
   ++stats_.ahrs_samples;
+  last_status_ = AttitudeStatus::kOk;  // until this sample's attitude step says otherwise
   const bool finite = s.omega_b_radps.allFinite() && s.f_b_mps2.allFinite() &&
                       s.m_b_tesla.allFinite();
   if (!finite) {

@@ -66,7 +66,7 @@ class DvlNavigator {
   /// The current estimate: position_valid and attitude_valid once the source initialised;
   /// p_std_m is zero (dead reckoning carries no covariance).
   NavSolution solution() const;
-  /// Status of the last attitude step (kOk before the first).
+  /// Status of the attitude step of the last AHRS sample (kOk when it made none).
   AttitudeStatus last_attitude_status() const { return last_status_; }
   const AttitudeFilter& attitude() const { return *attitude_; }
   const DvlNavigatorStats& stats() const { return stats_; }

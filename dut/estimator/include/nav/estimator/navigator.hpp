@@ -111,7 +111,7 @@ class Navigator {
   /// The current estimate.
   NavSolution solution() const;
   const NavigatorStats& stats() const { return stats_; }
-  /// Status of the last attitude step (kOk before the first).
+  /// Status of the attitude step of the last AHRS sample (kOk when it made none).
   AttitudeStatus last_attitude_status() const { return last_status_; }
   const AttitudeFilter& attitude() const { return *attitude_; }
   /// Report of the last GPS position update (nullopt before the first one after anchoring).
