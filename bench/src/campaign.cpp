@@ -22,6 +22,11 @@
 
 #include "nav/bench/dut_process.hpp"
 #include "nav/bench/runner.hpp"
+#include "nav/common/version.hpp"
+#include "nav/reports/atomic_file.hpp"
+#include "nav/reports/html_report.hpp"
+#include "nav/reports/json_text.hpp"
+#include "host_identity.hpp"
 
 namespace nav::bench {
 namespace {
@@ -74,16 +79,11 @@ Result<pid_t> spawn_run(const std::vector<std::string>& argv, const std::string&
   return spawn_logged("/proc/self/exe", argv, log, LogMode::kTruncate);
 }
 
-/// Writes text to path through path.tmp and a rename.
+/// Writes text to path whole or not at all; throws naming the file on failure.
 void write_atomically(const fs::path& path, const std::string& text) {
-  const fs::path tmp = path.string() + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    out << text;
-    out.flush();
-    if (!out) throw std::runtime_error("cannot write " + tmp.string());
+  if (auto r = reports::write_file_atomically(path.string(), text); !r) {
+    throw std::runtime_error(r.error().detail);
   }
-  fs::rename(tmp, path);
 }
 
 nlohmann::ordered_json labels_json(const Labels& labels) {
@@ -357,6 +357,8 @@ int run_campaign(const CampaignOptions& o) {
   j["mode"] = mode_name(o.mode);
   j["jobs"] = o.jobs;
   j["started_utc"] = started_utc;
+  j["navbench_version"] = navbench_version();
+  j["host"] = {{"name", detail::host_identity().name}, {"kernel", detail::host_identity().kernel}};
   j["wall_time_s"] = seconds_since(campaign_start);
   j["complete"] = complete;
   j["exit_code"] = exit_code;
@@ -404,7 +406,11 @@ int run_campaign(const CampaignOptions& o) {
     write_atomically(out / "comparison.csv", comparison_csv(rows));
     write_atomically(out / "comparison.md",
                      markdown_document(o, runs, scenarios.size(), table, complete));
-    write_atomically(out / "campaign.json", j.dump(2) + "\n");
+    write_atomically(out / "campaign.json", reports::dump_json(j, 2) + "\n");
+    // The campaign report from the files just written, as `navbench report DIR` makes it.
+    if (const auto report = reports::write_report(out.string()); !report) {
+      throw std::runtime_error("campaign.html: " + report.error().detail);
+    }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "navbench: campaign: %s\n", e.what());
     std::fputs(table.c_str(), stdout);

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
+#include <optional>
 #include <unordered_map>
 
 #include "nav/common/units.hpp"
@@ -19,11 +21,22 @@ std::string fmt(const char* f, double a, double b, double c = 0.0) {
   return buf;
 }
 
+/// A check's result before judging: its name, kind, requirement and limit.
+reports::CheckResult check_result(const CheckSpec& c, double limit, const char* unit) {
+  reports::CheckResult r{c.name, true, false, 0.0, limit, unit, {}};
+  r.kind = check_kind_name(c.kind);
+  r.req = c.req;
+  r.title = c.title;
+  r.after_s = to_seconds(c.after);
+  return r;
+}
+
 /// An error envelope check over aligned samples: value(sample) <= max + per_distance * d.
 reports::CheckResult envelope_check(const CheckSpec& c, const std::vector<reports::AlignedSample>& a,
                                     double scale, const char* unit,
                                     double (*value)(const reports::AlignedSample&)) {
-  reports::CheckResult r{c.name, true, false, 0.0, c.max * scale, unit, {}};
+  reports::CheckResult r = check_result(c, c.max * scale, unit);
+  r.per_distance = c.max_per_distance * scale;
   const double after_s = to_seconds(c.after);
   std::size_t judged = 0, violations = 0;
   double worst_margin = -1e300, worst_t = 0.0;
@@ -43,6 +56,7 @@ reports::CheckResult envelope_check(const CheckSpec& c, const std::vector<report
     r.detail = "no solutions with a valid position to judge";
     return r;
   }
+  r.worst_t_s = worst_t;
   r.passed = violations == 0;
   r.detail = fmt("max %.3f ", r.value, 0.0) + unit + fmt(" (limit %.3f", c.max * scale, 0.0) +
              (c.max_per_distance > 0 ? fmt(" + %.2f %% of distance", c.max_per_distance * 100, 0) : "") +
@@ -91,35 +105,32 @@ emulators::TruthSample TruthTable::at(double t_s) const {
   return s;
 }
 
-JudgeOutput judge(const JudgeInput& in) {
-  const Scenario& sc = *in.scenario;
-  const bool lockstep = sc.mode == TimeMode::kLockstep;
-  const geodesy::LocalTangentPlane ltp(sc.datum);
-  JudgeOutput out;
-
+Alignment align_answers(const std::vector<TriggerRecord>& triggers,
+                        const std::vector<Answer>& answers, const TruthTable& truth,
+                        const geodesy::Geodetic& datum) {
+  const geodesy::LocalTangentPlane ltp(datum);
+  Alignment out;
+  out.first_rx.resize(triggers.size());
   std::unordered_map<std::uint64_t, std::size_t> by_tag;
-  for (std::size_t i = 0; i < in.triggers.size(); ++i) by_tag.emplace(in.triggers[i].tag, i);
-
-  // Latency rows: one per trigger sent, with the first answer naming it.
-  std::vector<std::optional<Timestamp>> first_rx(in.triggers.size());
-  for (const auto& a : in.answers) {
+  for (std::size_t i = 0; i < triggers.size(); ++i) by_tag.emplace(triggers[i].tag, i);
+  for (const auto& a : answers) {
     const auto it = by_tag.find(a.solution.trigger_tag);
-    if (it == by_tag.end() || !in.triggers[it->second].sent) {
-      ++out.unmatched_answers;
+    if (it == by_tag.end() || !triggers[it->second].sent) {
+      ++out.unmatched;
       continue;
     }
-    auto& rx = first_rx[it->second];
+    auto& rx = out.first_rx[it->second];
     if (!rx) rx = a.rx;
     if (!a.solution.position_valid) continue;
-    const TriggerRecord& tr = in.triggers[it->second];
+    const TriggerRecord& tr = triggers[it->second];
     const double t_s = to_seconds(tr.t_valid);
-    const auto truth = in.truth->at(t_s);
+    const auto at = truth.at(t_s);
     const auto& s = a.solution;
     reports::AlignedSample al;
     al.t_s = t_s;
-    al.truth_p_n = truth.p_n;
-    al.truth_q_nb = truth.q_nb;
-    al.distance_m = truth.distance_m;
+    al.truth_p_n = at.p_n;
+    al.truth_q_nb = at.q_nb;
+    al.distance_m = at.distance_m;
     al.est_p_n = ltp.to_ned(geodesy::Geodetic{units::deg_to_rad(s.lat_deg),
                                               units::deg_to_rad(s.lon_deg), -s.depth_m});
     al.est_q_nb = quat_from_euler(Euler{units::deg_to_rad(s.roll_deg),
@@ -127,8 +138,19 @@ JudgeOutput judge(const JudgeInput& in) {
                                         units::deg_to_rad(s.yaw_deg)});
     out.aligned.push_back(al);
   }
-  std::sort(out.aligned.begin(), out.aligned.end(),
-            [](const auto& x, const auto& y) { return x.t_s < y.t_s; });
+  std::stable_sort(out.aligned.begin(), out.aligned.end(),
+                   [](const auto& x, const auto& y) { return x.t_s < y.t_s; });
+  return out;
+}
+
+JudgeOutput judge(const JudgeInput& in) {
+  const Scenario& sc = *in.scenario;
+  const bool lockstep = sc.mode == TimeMode::kLockstep;
+  JudgeOutput out;
+  Alignment al = align_answers(in.triggers, in.answers, *in.truth, sc.datum);
+  out.aligned = std::move(al.aligned);
+  out.unmatched_answers = al.unmatched;
+  const auto& first_rx = al.first_rx;
 
   const CheckSpec* deadline = nullptr;
   for (const auto& c : sc.checks) {
@@ -136,6 +158,8 @@ JudgeOutput judge(const JudgeInput& in) {
   }
   std::vector<double> latencies;
   std::size_t misses = 0, unanswered = 0;
+  std::optional<double> slowest_t;  // time of validity of the slowest (or an unanswered) trigger
+  double slowest = -1.0;
   for (std::size_t i = 0; i < in.triggers.size(); ++i) {
     const auto& tr = in.triggers[i];
     if (!tr.sent) continue;
@@ -147,10 +171,18 @@ JudgeOutput judge(const JudgeInput& in) {
       row.rx_s = to_seconds(*first_rx[i] - in.t0);
       const double lat = to_seconds(*first_rx[i] - tr.wire_end);
       latencies.push_back(lat);
+      if (lat > slowest && slowest < std::numeric_limits<double>::infinity()) {
+        slowest = lat;
+        slowest_t = row.t_valid_s;
+      }
       row.missed = deadline && lat > deadline->max;
     } else {
       ++unanswered;
       row.missed = true;
+      if (slowest < std::numeric_limits<double>::infinity()) {  // the first unanswered is worst
+        slowest = std::numeric_limits<double>::infinity();
+        slowest_t = row.t_valid_s;
+      }
     }
     misses += row.missed ? 1 : 0;
     out.latency.push_back(row);
@@ -169,26 +201,31 @@ JudgeOutput judge(const JudgeInput& in) {
         out.checks.push_back(envelope_check(c, out.aligned, units::kRadToDeg, "deg", &attitude));
         break;
       case CheckKind::kEndpointError: {
-        reports::CheckResult r{c.name, true, false, 0.0, c.max, "m", {}};
+        reports::CheckResult r = check_result(c, c.max, "m");
         if (out.aligned.empty()) {
           r.detail = "no solutions with a valid position to judge";
         } else {
           const auto& last = out.aligned.back();
           r.value = (last.est_p_n - last.truth_p_n).norm();
           r.passed = r.value <= c.max;
+          r.worst_t_s = last.t_s;
           r.detail = fmt("%.3f m at t=%.2f s", r.value, last.t_s) + fmt(" (limit %.3f m)", c.max, 0);
         }
         out.checks.push_back(r);
         break;
       }
       case CheckKind::kDeadline: {
-        reports::CheckResult r{c.name, !lockstep, false, static_cast<double>(misses),
-                               static_cast<double>(c.max_misses), "misses", {}};
+        reports::CheckResult r =
+            check_result(c, static_cast<double>(c.max_misses), "misses");
+        r.judged = !lockstep;
+        r.value = static_cast<double>(misses);
+        r.max_latency_s = c.max;
         if (lockstep) {
           r.detail = "not judged in lockstep (latency is compute time)";
           r.value = 0;
         } else {
           r.passed = misses <= static_cast<std::size_t>(c.max_misses);
+          r.worst_t_s = slowest_t;
           r.detail = fmt("%.0f misses over %.3f ms", static_cast<double>(misses), c.max * 1e3) +
                      fmt(" (%.0f unanswered; allowed %.0f)", static_cast<double>(unanswered),
                          c.max_misses) +
@@ -198,7 +235,9 @@ JudgeOutput judge(const JudgeInput& in) {
         break;
       }
       case CheckKind::kDutAlive: {
-        reports::CheckResult r{c.name, true, in.dut_alive, in.dut_alive ? 1.0 : 0.0, 1.0, "", {}};
+        reports::CheckResult r = check_result(c, 1.0, "");
+        r.passed = in.dut_alive;
+        r.value = in.dut_alive ? 1.0 : 0.0;
         r.detail = in.dut_status;
         out.checks.push_back(r);
         break;

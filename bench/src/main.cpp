@@ -16,6 +16,9 @@
 #include "nav/bench/record.hpp"
 #include "nav/bench/replay.hpp"
 #include "nav/bench/runner.hpp"
+#include "nav/common/version.hpp"
+#include "nav/reports/html_report.hpp"
+#include "nav/reports/json_text.hpp"
 
 namespace {
 
@@ -39,12 +42,24 @@ int decode_file(const std::string& protocol, const std::string& path, const std:
     bytes = std::move(*b);
   }
   const auto counts = decode_stream(*d, bytes, [](const nlohmann::ordered_json& j) {
-    std::cout << j.dump() << '\n';
+    std::cout << nav::reports::dump_json(j) << '\n';
   });
   std::cout.flush();
   std::fprintf(stderr, "navbench: %s: %zu messages, %zu errors in %zu bytes\n", path.c_str(),
                counts.messages, counts.errors, bytes.size());
   return std::cout ? kExitPass : kExitBench;
+}
+
+/// `navbench report`: returns the exit code.
+int write_report_file(const std::string& dir, const std::string& out) {
+  const auto written = nav::reports::write_report(dir, out);
+  if (!written) {
+    std::fprintf(stderr, "navbench: report: %s\n", written.error().detail.c_str());
+    return written.error().code == nav::ErrorCode::kIo ? nav::bench::kExitBench
+                                                       : nav::bench::kExitUsage;
+  }
+  std::printf("%s\n", written->c_str());
+  return nav::bench::kExitPass;
 }
 
 /// Decimal digits only, at most 2^64 - 1, leading zeros dropped (a transform): CLI11 would take
@@ -79,7 +94,7 @@ int main(int argc, char** argv) {
       "Exit codes: 0 pass, 1 a check failed, 2 usage or scenario error, 3 bench error\n"
       "(including bench-late), 4 DUT crashed or hung."};
   app.require_subcommand(1);
-  app.set_version_flag("--version", std::string("navbench ") + NAV_VERSION);
+  app.set_version_flag("--version", std::string("navbench ") + nav::navbench_version());
 
   RunOptions run;
   std::string mode;
@@ -220,6 +235,24 @@ int main(int argc, char** argv) {
                   "Capture (or candump log) to write (written as FILE.partial, renamed at the end)")
       ->required();
 
+  std::string report_dir, report_out;
+  auto* rpt = app.add_subcommand(
+      "report", "Write the HTML report of a run folder (report.html) or of a campaign folder "
+                "(campaign.html) again, from the folder's files alone");
+  rpt->add_option("dir", report_dir,
+                  "A run folder (what `navbench run` writes) or a campaign folder (what "
+                  "`navbench campaign` writes)")
+      ->required();
+  rpt->add_option("-o,--out", report_out,
+                  "HTML file to write (default DIR/report.html, or DIR/campaign.html for a "
+                  "campaign); written to a temporary file beside it and renamed");
+  rpt->footer(
+      "The page is self-contained: it opens from file:// with no network, its plots are drawn\n"
+      "by the uPlot embedded in it, and it prints on A4. A run made by an older navbench gets\n"
+      "a report too; what its folder lacks is marked \"not recorded\".\n\n"
+      "Exit codes: 0 written; 2 DIR is not a run or campaign folder, or one of its files is\n"
+      "damaged (nothing is written); 3 the report cannot be written.");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -235,6 +268,7 @@ int main(int argc, char** argv) {
     return replay_capture(replay);
   }
   if (*rec) return record_ports(record);
+  if (*rpt) return write_report_file(report_dir, report_out);
   if (*cam) {
     campaign.mode = campaign_mode == "realtime" ? TimeMode::kRealtime : TimeMode::kLockstep;
     campaign.command.assign(argv, argv + argc);

@@ -18,6 +18,7 @@
 #include <memory>
 #include <stdexcept>
 #include <thread>
+#include <tuple>
 #include <unordered_map>
 
 #include <nlohmann/json.hpp>
@@ -30,6 +31,7 @@
 #include "nav/bench/pty.hpp"
 #include "nav/bench/realtime.hpp"
 #include "nav/bench/wire_schedule.hpp"
+#include "device_tally.hpp"
 #include "nav/emulators/acoustic_modem.hpp"
 #include "nav/emulators/dvl_emulator.hpp"
 #include "nav/emulators/ebimu_emulator.hpp"
@@ -40,7 +42,11 @@
 #include "nav/emulators/wheel_encoder_emulator.hpp"
 #include "nav/protocols/candump_log.hpp"
 #include "nav/protocols/microstrain_gx3.hpp"
+#include "nav/reports/html_report.hpp"
 #include "nav/reports/run_record.hpp"
+#include "nav/reports/sha256.hpp"
+#include "nav/common/version.hpp"
+#include "host_identity.hpp"
 #include "nav/transport/can_socket.hpp"
 #include "nav/transport/serial_port.hpp"
 
@@ -57,6 +63,14 @@ constexpr Duration kChunkPeriod = 1ms;       // byte pacing granularity
 constexpr Duration kCheckPeriod = 50ms;      // how often the DUT is watched while sending
 constexpr Duration kProgressPeriod = 10s;    // progress lines on long runs
 constexpr Duration kPollPeriod = 1ms;        // realtime: how often polled lines are read
+
+/// The program argv[0] names, resolved as the DUT was started, and its SHA-256.
+std::pair<std::string, std::string> executable_identity(const std::vector<std::string>& argv) {
+  if (argv.empty()) return {};
+  const auto path = DutProcess::resolve(argv.front());
+  if (!path) return {};
+  return {*path, reports::sha256_file(*path).value_or("")};
+}
 
 std::string utc_now(const char* format) {
   const std::time_t now = std::time(nullptr);
@@ -267,7 +281,7 @@ class Run {
   /// Writes every queued answer due at or before scenario_t (see answers_).
   void send_due_answers(Duration scenario_t);
   /// Writes bytes to device d's line at once, waiting briefly for room; returns bytes written.
-  std::size_t write_now(std::uint32_t d, const protocols::Bytes& bytes);
+  std::size_t write_now(std::uint32_t d, const protocols::Bytes& bytes, Duration scenario_t);
   /// Realtime: sleeps until deadline; with polled devices in slices of at most
   /// kPollPeriod, reading requests and sending the answers that fall due in between.
   void wait_realtime(Timestamp deadline);
@@ -301,7 +315,7 @@ class Run {
 
   /// Schedule message index -> (vehicle, index into its triggers).
   std::unordered_map<std::uint32_t, std::pair<std::uint32_t, std::size_t>> trigger_of_message_;
-  std::vector<std::size_t> bytes_sent_, bytes_dropped_, messages_sent_;
+  detail::DeviceTally tally_;  ///< messages and bytes per device, in all and per second
   /// Per device: it streams (a GX3 only once started, see poll_host_lines; others always),
   /// the host's bytes not parsed yet, and the messages not written while not streaming.
   std::vector<char> streaming_;
@@ -440,9 +454,7 @@ void Run::generate() {
     trigger_of_message_[k] = {dev_vehicle_[m.device], veh.triggers.size()};
     veh.triggers.push_back(TriggerRecord{message(m).trigger_tag.value_or(0), message(m).t_valid});
   }
-  bytes_sent_.assign(devs_.size(), 0);
-  bytes_dropped_.assign(devs_.size(), 0);
-  messages_sent_.assign(devs_.size(), 0);
+  tally_.reset(devs_.size(), sc_.duration);
   suppressed_.assign(devs_.size(), 0);
   host_rx_.assign(devs_.size(), {});
   streaming_.assign(devs_.size(), 1);
@@ -513,10 +525,12 @@ void Run::send_can(CanTxFrame& tx) {
   const std::uint32_t d = tx.device;
   if (!r) {
     ++can_dropped_[d];
+    tally_.add(d, tx.due, 0, 0, f.dlc);
     return;
   }
   ++can_frames_[d];
   can_bytes_[d] += f.dlc;
+  tally_.add(d, tx.due, 1, f.dlc, 0);
   // Realtime stamps the capture when the frame was written; lockstep with its due time.
   const Duration stamp = sc_.mode == TimeMode::kRealtime ? start - t0_ : tx.due;
   if (sc_.mode == TimeMode::kRealtime) can_lateness_.push_back(to_seconds(stamp - tx.due));
@@ -597,12 +611,12 @@ void Run::handle_host_command(std::uint32_t d, const protocols::gx3::HostCommand
                      std::llround(to_seconds(scenario_t) * gx3::kTicksPerSecond);
   const auto reply = gx3::encode(
       gx3::ContinuousModeReply{c.reply_command, static_cast<std::uint32_t>(ticks)});
-  write_now(d, reply);
+  write_now(d, reply, scenario_t);
   write_capture_line(tx_capture_.get(), scenario_t, devs_[d].name, reply);
   lines_[d].flush();
 }
 
-std::size_t Run::write_now(std::uint32_t d, const protocols::Bytes& bytes) {
+std::size_t Run::write_now(std::uint32_t d, const protocols::Bytes& bytes, Duration scenario_t) {
   const int fd = lines_[d].fd();
   std::size_t off = 0;
   for (int tries = 0; off < bytes.size() && tries < 100; ++tries) {
@@ -614,8 +628,7 @@ std::size_t Run::write_now(std::uint32_t d, const protocols::Bytes& bytes) {
     pollfd p{fd, POLLOUT, 0};
     ::poll(&p, 1, 1);
   }
-  bytes_sent_[d] += off;
-  bytes_dropped_[d] += bytes.size() - off;
+  tally_.add(d, scenario_t, 0, off, bytes.size() - off);
   return off;
 }
 
@@ -640,8 +653,8 @@ void Run::send_due_answers(Duration scenario_t) {
     // Realtime stamps the capture when the bytes left; lockstep with the scheduled time.
     const Duration stamp =
         sc_.mode == TimeMode::kRealtime ? monotonic_now() - t0_ : a.message.t_send;
-    write_now(a.device, a.message.bytes);
-    ++messages_sent_[a.device];
+    write_now(a.device, a.message.bytes, a.message.t_send);
+    tally_.add(a.device, a.message.t_send, 1, 0, 0);
     write_capture_line(tx_capture_.get(), stamp, devs_[a.device].name, a.message.bytes);
     lines_[a.device].flush();
     if (sc_.mode == TimeMode::kRealtime) {
@@ -762,15 +775,14 @@ void Run::run_realtime() {
     const Timestamp done = monotonic_now();
     // A serial line never blocks: bytes the DUT does not take are lost, like a UART overrun.
     const std::size_t written = n > 0 ? static_cast<std::size_t>(n) : 0;
-    bytes_sent_[m.device] += written;
-    bytes_dropped_[m.device] += c.length - written;
+    tally_.add(m.device, c.t, 0, written, c.length - written);
     if (c.offset == 0) {
       first_byte[c.message] = start;
       lateness_.push_back(reports::LatenessRow{devs_[m.device].name, to_seconds(c.t),
                                                to_seconds(start - t0_)});
     }
     if (c.offset + c.length == bytes.size()) {
-      ++messages_sent_[m.device];
+      tally_.add(m.device, m.start, 1, 0, 0);
       write_capture_line(tx_capture_.get(), first_byte[c.message] - t0_,
                          devs_[m.device].name, bytes);
       if (is_trigger(m)) {
@@ -832,9 +844,7 @@ void Run::run_lockstep() {
       pollfd p{fd, POLLOUT, 0};
       ::poll(&p, 1, 10);
     }
-    bytes_sent_[m.device] += off;
-    bytes_dropped_[m.device] += bytes.size() - off;
-    ++messages_sent_[m.device];
+    tally_.add(m.device, m.start, 1, off, bytes.size() - off);
     write_capture_line(tx_capture_.get(), m.start, devs_[m.device].name, bytes);
     lockstep_now_ = m.end;
     progress(m.start);
@@ -944,18 +954,42 @@ reports::RunRecord Run::execute() {
 
   rec.scenario_name = sc_.name;
   rec.scenario_file = sc_.file;
+  rec.scenario_description = sc_.description;
+  rec.scenario_sha256 = reports::sha256_file((dir_ / "scenario.yaml").string()).value_or("");
+  rec.navbench_version = navbench_version();
+  const detail::HostIdentity host = detail::host_identity();
+  rec.host = host.name;
+  rec.kernel = host.kernel;
   rec.labels.assign(sc_.labels.begin(), sc_.labels.end());
   rec.mode = sc_.mode == TimeMode::kRealtime ? "realtime" : "lockstep";
   rec.seed = sc_.seed;
   rec.duration_s = to_seconds(sc_.duration);
   rec.dut_command = primary.argv;
+  std::tie(rec.dut_executable, rec.dut_sha256) = executable_identity(primary.argv);
   rec.dut_status = dut_status;
   rec.triggers_sent = primary.triggers_sent;
   rec.answers = in.answers.size();
   rec.unmatched_answers = j.unmatched_answers;
   rec.malformed_output = primary.reader->malformed();
   rec.checks = std::move(j.checks);
-  rec.aligned = std::move(j.aligned);
+  for (std::size_t v = 0; v < vehicles_.size(); ++v) {
+    const Vehicle& veh = vehicles_[v];
+    reports::VehicleTrack track;
+    track.name = veh.name;
+    std::optional<TruthTable> own;
+    if (v > 0) own.emplace(*veh.truth, sc_.duration, sc_.truth_rate_hz);
+    const TruthTable& truth = v == 0 ? table : *own;
+    for (const auto& s : truth.samples()) {
+      track.truth.push_back({to_seconds(s.t), s.p_n, s.q_nb, s.distance_m});
+    }
+    track.aligned =
+        v == 0 ? std::move(j.aligned)
+               : align_answers(veh.triggers, veh.reader->answers(), truth, sc_.datum).aligned;
+    track.triggers_sent = veh.triggers_sent;
+    track.answers = veh.reader->answer_count();
+    track.dut_status = v == 0 ? dut_status : veh.status;
+    rec.vehicles.push_back(std::move(track));
+  }
   rec.latency = std::move(j.latency);
   rec.dut_latency = j.dut_latency;
   std::vector<double> late;
@@ -963,8 +997,7 @@ reports::RunRecord Run::execute() {
   rec.bench_lateness = reports::summarize(late);
   rec.lateness = std::move(lateness_);
   rec.lateness_budget_p99_s = to_seconds(sc_.lateness_budget_p99);
-  for (const auto& s : table.samples()) rec.truth.push_back({to_seconds(s.t), s.p_n, s.q_nb});
-  for (std::size_t d = 0; d < devs_.size(); ++d) {
+  for (std::uint32_t d = 0; d < devs_.size(); ++d) {
     const auto& dev = devs_[d];
     if (dev.on_can()) {
       reports::DeviceRow row;
@@ -977,12 +1010,17 @@ reports::RunRecord Run::execute() {
       row.bytes = can_bytes_[d];
       row.can = true;
       row.frames_dropped = can_dropped_[d];
+      row.bytes_dropped = tally_.total(d).bytes_dropped;
+      row.per_second = tally_.per_second(d);
       rec.devices.push_back(std::move(row));
       continue;
     }
-    rec.devices.push_back({dev.name, device_type_name(dev.type), lines_[d].path(), dev.baud,
-                           emulators::device_seed(sc_.seed, dev.name), messages_sent_[d],
-                           bytes_sent_[d], bytes_dropped_[d], suppressed_[d]});
+    const auto& total = tally_.total(d);
+    reports::DeviceRow row{dev.name, device_type_name(dev.type), lines_[d].path(), dev.baud,
+                           emulators::device_seed(sc_.seed, dev.name), total.messages,
+                           total.bytes, total.bytes_dropped, suppressed_[d]};
+    row.per_second = tally_.per_second(d);
+    rec.devices.push_back(std::move(row));
   }
   if (sc_.can) {
     reports::CanBusRow bus;
@@ -1016,8 +1054,14 @@ reports::RunRecord Run::execute() {
   }
   for (std::size_t v = 1; v < vehicles_.size(); ++v) {
     const auto& veh = vehicles_[v];
-    rec.peers.push_back({veh.name, veh.argv, veh.status, veh.triggers_sent,
-                         veh.reader->answer_count()});
+    reports::PeerRow peer;
+    peer.name = veh.name;
+    peer.dut_command = veh.argv;
+    std::tie(peer.dut_executable, peer.dut_sha256) = executable_identity(veh.argv);
+    peer.dut_status = veh.status;
+    peer.triggers_sent = veh.triggers_sent;
+    peer.answers = veh.reader->answer_count();
+    rec.peers.push_back(std::move(peer));
   }
   if (channel_) {
     for (const auto& l : channel_->link_stats()) {
@@ -1164,9 +1208,18 @@ int run_scenario(const RunOptions& o) {
     reports::RunRecord rec = run.execute();
     rec.run_dir = final_dir.string();
     reports::write_reports(rec, partial.string());
+    // The HTML report is made from the files just written, as `navbench report` makes it. A
+    // run is never lost to it: without it the folder is still renamed into place.
+    const auto report = reports::write_report(partial.string());
     fs::rename(partial, final_dir);
     std::fputs(reports::verdict_text(rec).c_str(), stdout);
     std::fflush(stdout);
+    if (!report) {
+      std::fprintf(stderr, "navbench: report.html not written (%s); the run folder is complete "
+                           "otherwise: try `navbench report %s`\n",
+                   report.error().detail.c_str(), final_dir.c_str());
+      return rec.exit_code == kExitPass ? kExitBench : rec.exit_code;
+    }
     return rec.exit_code;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "navbench: bench error: %s (partial output kept in %s)\n", e.what(),

@@ -319,15 +319,21 @@ void read_dut(const Field& f, Scenario& s) {
   if (auto v = m.optional("watchdog")) dut.watchdog = v->duration(Bound::kPositive);
 }
 
-CheckSpec read_check(const Field& item, const Scenario& s) {
+const std::vector<std::pair<std::string, CheckSpec::Kind>>& check_kinds() {
   using Kind = CheckSpec::Kind;
-  const std::vector<std::pair<std::string, Kind>> kinds{
+  static const std::vector<std::pair<std::string, Kind>> kinds{
       {"horizontal_error", Kind::kHorizontalError},
       {"vertical_error", Kind::kVerticalError},
       {"attitude_error", Kind::kAttitudeError},
       {"endpoint_error", Kind::kEndpointError},
       {"deadline", Kind::kDeadline},
       {"dut_alive", Kind::kDutAlive}};
+  return kinds;
+}
+
+CheckSpec read_check(const Field& item, const Scenario& s) {
+  using Kind = CheckSpec::Kind;
+  const auto& kinds = check_kinds();
   if (!item.node().IsMap()) item.fail("expected a check map, got " + what_is(item.node()));
   const auto kind_field = item.peek("kind");
   if (!kind_field) item.fail("missing required key 'kind'");
@@ -335,7 +341,7 @@ CheckSpec read_check(const Field& item, const Scenario& s) {
   c.kind = kind_field->choice(kinds);
   c.name = kind_field->node().Scalar();
 
-  std::vector<std::string> keys{"kind", "name"};
+  std::vector<std::string> keys{"kind", "name", "req", "title"};
   switch (c.kind) {
     case Kind::kHorizontalError:
     case Kind::kVerticalError: keys.insert(keys.end(), {"max", "per_distance", "after"}); break;
@@ -346,6 +352,8 @@ CheckSpec read_check(const Field& item, const Scenario& s) {
   }
   const MapReader m(item, keys);
   if (auto v = m.optional("name")) c.name = v->identifier();
+  if (auto v = m.optional("req")) c.req = v->line("a requirement id such as NAV-REQ-012", 64);
+  if (auto v = m.optional("title")) c.title = v->line("the requirement's title", 300);
   switch (c.kind) {
     case Kind::kHorizontalError:
     case Kind::kVerticalError:
@@ -613,6 +621,13 @@ Result<std::string> read_file(const std::string& path) {
 }
 
 }  // namespace
+
+const char* check_kind_name(CheckSpec::Kind k) {
+  for (const auto& [name, kind] : check_kinds()) {
+    if (kind == k) return name.c_str();
+  }
+  return "unknown";
+}
 
 std::string expand_scenario_dir(std::string arg, const std::string& dir) {
   constexpr std::string_view kKey = "{scenario_dir}";

@@ -7,6 +7,7 @@
 #include <map>
 
 #include "nav/common/units.hpp"
+#include "nav/reports/text.hpp"
 
 namespace nav::bench::detail {
 namespace {
@@ -159,6 +160,21 @@ double Field::degrees(std::string_view what, double limit_deg) const {
     fail("expected " + expected + ", got " + quoted(t));
   }
   return *rad;
+}
+
+std::string Field::line(std::string_view expected, std::size_t max_bytes) const {
+  const std::string t = text(expected);
+  if (t.empty()) fail("expected " + std::string(expected) + ", got an empty text");
+  if (reports::valid_utf8(t) != t) fail("expected " + std::string(expected) + ", got bytes that are not UTF-8");
+  const bool control = std::any_of(t.begin(), t.end(), [](char c) {
+    return static_cast<unsigned char>(c) < 0x20 || c == 0x7F;
+  });
+  if (control) fail("expected " + std::string(expected) + " on one line, got control characters");
+  if (t.size() > max_bytes) {
+    fail("expected " + std::string(expected) + " of at most " + std::to_string(max_bytes) +
+         " bytes, got " + std::to_string(t.size()));
+  }
+  return t;
 }
 
 std::string Field::identifier() const {

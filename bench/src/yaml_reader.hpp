@@ -109,6 +109,10 @@ class Field {
   /// quantity ("36.38 deg", "0.635 rad") [rad].
   double degrees(std::string_view what, double limit_deg) const;
 
+  /// One line of text for reports: not empty, valid UTF-8, no control characters, at most
+  /// max_bytes bytes.
+  std::string line(std::string_view expected, std::size_t max_bytes) const;
+
   /// A name made of [A-Za-z0-9_.-], as used in run folders and "{port:NAME}".
   std::string identifier() const;
 

@@ -58,9 +58,17 @@ TEST(NavbenchCampaign, ComparesTwoScenariosOverThreeSeeds) {
                               dir);
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
   const fs::path out = dir / "out";
-  for (const char* f : {"campaign.json", "comparison.csv", "comparison.md"}) {
+  for (const char* f : {"campaign.json", "comparison.csv", "comparison.md", "campaign.html"}) {
     EXPECT_TRUE(fs::exists(out / f)) << f;
-    EXPECT_FALSE(fs::exists(out / (std::string(f) + ".tmp"))) << f;
+  }
+  for (const auto& e : fs::directory_iterator(out)) {
+    EXPECT_EQ(e.path().filename().string().find(".tmp"), std::string::npos) << e.path();
+  }
+  // The campaign report links every run's own report by a relative path.
+  const std::string html = slurp(out / "campaign.html");
+  for (const char* run : {"runs/it-campaign-straight-s1/report.html", "runs/it-campaign-arc-s3/report.html"}) {
+    EXPECT_NE(html.find(std::string("<a href=\"") + run + "\">report</a>"), std::string::npos) << run;
+    EXPECT_TRUE(fs::exists(out / run)) << run;
   }
 
   // One progress line per run on stderr.

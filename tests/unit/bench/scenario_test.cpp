@@ -819,6 +819,41 @@ TEST(LoadScenario, MeasurementFaultRefusalsAreOneLineAtTheKey) {
   }
 }
 
+TEST(LoadScenario, ChecksCarryARequirementIdAndTitle) {
+  const auto path = write_temp("req.yaml", kMinimal + R"(checks:
+  - kind: horizontal_error
+    max: 2 m
+    req: NAV-REQ-012
+    title: "horizontal error within 2 m after alignment"
+  - {kind: dut_alive}
+)");
+  const auto s = load_scenario(path);
+  ASSERT_TRUE(s) << s.error().detail;
+  ASSERT_EQ(s->checks.size(), 2u);
+  EXPECT_EQ(s->checks[0].req, "NAV-REQ-012");
+  EXPECT_EQ(s->checks[0].title, "horizontal error within 2 m after alignment");
+  EXPECT_TRUE(s->checks[1].req.empty());
+  EXPECT_TRUE(s->checks[1].title.empty());
+  EXPECT_STREQ(check_kind_name(s->checks[0].kind), "horizontal_error");
+  EXPECT_STREQ(check_kind_name(CheckSpec::Kind::kDeadline), "deadline");
+}
+
+TEST(LoadScenario, RequirementTextsMustBeOneLineOfUtf8) {
+  const std::vector<std::pair<std::string, std::string>> cases{
+      {"    req: \"\"\n", "req.yaml:15:10: checks[0].req: expected a requirement id such as NAV-REQ-012, got an empty text"},
+      {"    title: \"a\\nb\"\n", "checks[0].title: expected the requirement's title on one line, got control characters"},
+      {"    title: \"bad \xff byte\"\n", "checks[0].title: expected the requirement's title, got bytes that are not UTF-8"},
+      {"    req: " + std::string(65, 'R') + "\n", "of at most 64 bytes, got 65"},
+      {"    req: [a, b]\n", "checks[0].req: expected a requirement id such as NAV-REQ-012, got a list"},
+  };
+  for (const auto& [line, message] : cases) {
+    const auto path = write_temp("req.yaml", kMinimal + "checks:\n  - kind: dut_alive\n" + line);
+    const auto s = load_scenario(path);
+    ASSERT_FALSE(s) << line;
+    EXPECT_NE(s.error().detail.find(message), std::string::npos) << s.error().detail;
+  }
+}
+
 TEST(LoadScenario, MissingFileSaysWhy) {
   const std::string path = kSourceDir + "/scenarios/no-such-scenario.yaml";
   const auto s = load_scenario(path);

@@ -98,6 +98,38 @@ TEST_F(JudgeFixture, ErrorsLatencyAndMissesAreMeasured) {
   EXPECT_FALSE(out.latency[2].rx_s.has_value());
   EXPECT_EQ(out.dut_latency.count, 2u);
   EXPECT_NEAR(out.dut_latency.max_s, 0.030, 1e-9);
+  // What the report needs of each check: its kind, the time of its worst sample, the limits.
+  EXPECT_EQ(out.checks[0].kind, "horizontal_error");
+  EXPECT_EQ(out.checks[0].worst_t_s, 1.0);     // 0.5 m at t = 1 s, 0 at t = 2 s
+  EXPECT_EQ(out.checks[3].kind, "endpoint_error");
+  EXPECT_EQ(out.checks[3].worst_t_s, 2.0);     // the last solution
+  EXPECT_EQ(out.checks[4].kind, "deadline");
+  EXPECT_EQ(out.checks[4].worst_t_s, 3.0);     // the unanswered trigger is the worst
+  EXPECT_DOUBLE_EQ(out.checks[4].max_latency_s, 0.010);
+}
+
+TEST_F(JudgeFixture, ChecksCarryTheirRequirementAndEnvelope) {
+  CheckSpec c{CheckSpec::Kind::kHorizontalError, 1.0, 0.02, 2s, "", 0, "h"};
+  c.req = "NAV-REQ-012";
+  c.title = "within 1 m + 2 %";
+  sc.checks = {c};
+  JudgeInput in;
+  in.scenario = &sc;
+  in.truth = table.get();
+  in.triggers.push_back({1, 5s, true, Timestamp{5s}});
+  in.triggers.push_back({2, 6s, true, Timestamp{6s}});
+  in.answers.push_back(answer_at(1, 5.0, Vec3(0.2, 0.0, 0.0), Timestamp{5s + 1ms}));
+  in.answers.push_back(answer_at(2, 6.0, Vec3(0.9, 0.0, 0.0), Timestamp{6s + 1ms}));
+  const auto out = judge(in);
+  ASSERT_EQ(out.checks.size(), 1u);
+  const auto& r = out.checks[0];
+  EXPECT_EQ(r.req, "NAV-REQ-012");
+  EXPECT_EQ(r.title, "within 1 m + 2 %");
+  EXPECT_DOUBLE_EQ(r.limit, 1.0);
+  EXPECT_DOUBLE_EQ(r.per_distance, 0.02);
+  EXPECT_DOUBLE_EQ(r.after_s, 2.0);
+  EXPECT_EQ(r.worst_t_s, 6.0);
+  EXPECT_TRUE(r.passed);
 }
 
 TEST_F(JudgeFixture, EnvelopeGrowsWithDistanceAndStartsAfter) {

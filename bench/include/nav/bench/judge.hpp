@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "nav/bench/output_reader.hpp"
@@ -55,5 +56,18 @@ struct JudgeOutput {
 };
 
 JudgeOutput judge(const JudgeInput& in);
+
+/// A vehicle's solutions matched to the triggers they name and aligned to its truth.
+struct Alignment {
+  std::vector<reports::AlignedSample> aligned;  ///< valid positions, by time of validity
+  std::vector<std::optional<Timestamp>> first_rx;  ///< per trigger: its first answer's arrival
+  std::size_t unmatched = 0;  ///< answers naming no trigger that was sent
+};
+
+/// Aligns answers to truth at their trigger's time of validity (interpolated; positions
+/// from geodetic to NED at datum). Used for every vehicle; judge() uses it for the primary.
+Alignment align_answers(const std::vector<TriggerRecord>& triggers,
+                        const std::vector<Answer>& answers, const TruthTable& truth,
+                        const geodesy::Geodetic& datum);
 
 }  // namespace nav::bench

@@ -99,7 +99,12 @@ struct CheckSpec {
   std::string input;           ///< deadline: the trigger device
   int max_misses = 0;          ///< deadline: tolerated misses
   std::string name;            ///< display name ("horizontal_error", ...)
+  std::string req{};           ///< requirement id it proves (`req`, e.g. "NAV-REQ-012"), or empty
+  std::string title{};         ///< the requirement's wording (`title`), or empty
 };
+
+/// The scenario name of a check kind ("horizontal_error", ...).
+const char* check_kind_name(CheckSpec::Kind k);
 
 /// A further vehicle (top-level `peers:`): its own path, devices and DUT. Its devices are
 /// named here as in its file section; in captures and reports they are "<vehicle_name>.<name>".

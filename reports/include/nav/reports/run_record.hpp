@@ -28,9 +28,20 @@ struct CheckResult {
   bool judged = true;     ///< false: not applicable in this run (e.g. deadline in lockstep)
   bool passed = false;
   double value = 0.0;     ///< the figure judged (worst error, misses, ...)
-  double limit = 0.0;     ///< its limit
+  double limit = 0.0;     ///< its limit (an envelope's: its value at distance 0)
   std::string unit;       ///< unit of value and limit ("m", "deg", "misses")
   std::string detail;     ///< one line for the verdict screen
+  std::string kind{};     ///< the scenario's kind ("horizontal_error", "deadline", ...)
+  std::string req{};      ///< requirement id the check proves (scenario `req`), may be empty
+  std::string title{};    ///< the requirement's wording (scenario `title`), may be empty
+  /// An error envelope's growth with the distance travelled: limit(t) = limit +
+  /// per_distance × distance(t) [unit/m].
+  double per_distance = 0.0;
+  double after_s = 0.0;   ///< judged from this scenario time on [s]
+  double max_latency_s = 0.0;  ///< a deadline's latency limit [s] (other kinds: 0)
+  /// Scenario time of the worst sample (largest margin over the envelope, latest solution
+  /// of an endpoint, slowest answer of a deadline) [s]; none when nothing was judged.
+  std::optional<double> worst_t_s{};
 };
 
 /// One aligned estimate (only solutions with a valid position).
@@ -62,6 +73,14 @@ struct TruthRow {
   double t_s = 0.0;
   Vec3 p_n;
   Quat q_nb;
+  double distance_m = 0.0;  ///< horizontal distance travelled by t [m]
+};
+
+/// What a device put on its line in one second of scenario time [k, k + 1) s.
+struct DeviceSecond {
+  std::uint32_t messages = 0;      ///< messages (CAN: frames) written
+  std::uint64_t bytes = 0;         ///< bytes written (CAN: data bytes)
+  std::uint64_t bytes_dropped = 0; ///< bytes the line did not take (CAN: of refused frames)
 };
 
 struct DeviceRow {
@@ -76,6 +95,8 @@ struct DeviceRow {
   /// interface refused (frames_dropped of them).
   bool can = false;
   std::size_t frames_dropped = 0;
+  /// Second by second from scenario time 0 (device-rates.csv); empty when not recorded.
+  std::vector<DeviceSecond> per_second{};
 };
 
 /// One CAN bus of the run (scenario vehicle.can).
@@ -104,6 +125,8 @@ struct FaultRow {
 struct PeerRow {
   std::string name;                      ///< vehicle name
   std::vector<std::string> dut_command;  ///< argv as started
+  std::string dut_executable{};          ///< the program started (resolved path)
+  std::string dut_sha256{};              ///< hex SHA-256 of that file; empty if unreadable
   std::string dut_status;                ///< as RunRecord::dut_status
   std::size_t triggers_sent = 0, answers = 0;  ///< answers: solutions received
 };
@@ -117,11 +140,24 @@ struct ModemLinkRow {
   double min_propagation_s = 0.0, max_propagation_s = 0.0;  ///< of delivered packets [s]
 };
 
+/// One vehicle's truth and its DUT's solutions aligned to it (the primary's drive the checks).
+struct VehicleTrack {
+  std::string name;
+  std::vector<TruthRow> truth;          ///< at the scenario's truth rate
+  std::vector<AlignedSample> aligned;   ///< solutions with a valid position, by time
+  std::size_t triggers_sent = 0, answers = 0;
+  std::string dut_status;
+};
+
 /// "gps checksum 10.0–15.0 s, 4 messages": one fault in one line (verdict screen, junit).
 std::string fault_text(const FaultRow& f);
 
 struct RunRecord {
   std::string scenario_name, scenario_file, mode, run_dir;
+  std::string scenario_description;
+  std::string scenario_sha256;      ///< hex SHA-256 of the scenario file as run
+  std::string navbench_version;     ///< nav::navbench_version() of the bench that ran it
+  std::string host, kernel;         ///< uname: node name; system, release, version, machine
   /// The scenario's labels (name, value), in file order (summary.json "labels").
   std::vector<std::pair<std::string, std::string>> labels;
   std::uint64_t seed = 0;
@@ -130,6 +166,8 @@ struct RunRecord {
   std::string verdict;              ///< PASS, FAIL, BENCH-LATE, DUT crashed, DUT hung
   int exit_code = 0;
   std::vector<std::string> dut_command;
+  std::string dut_executable;       ///< the program started (resolved path)
+  std::string dut_sha256;           ///< hex SHA-256 of that file; empty if unreadable
   std::string dut_status;           ///< e.g. "alive", "exited with status 1 at t=0.3 s"
   std::size_t triggers_sent = 0, answers = 0, unmatched_answers = 0, malformed_output = 0;
   std::vector<CheckResult> checks;
@@ -138,8 +176,8 @@ struct RunRecord {
   Stats dut_latency;                ///< realtime: judged latency; lockstep: compute time
   std::vector<DeviceRow> devices;
   std::vector<FaultRow> faults;     ///< every fault of every device, device then file order
-  std::vector<TruthRow> truth;
-  std::vector<AlignedSample> aligned;
+  /// Every vehicle, the primary first (its track is the one the checks judged).
+  std::vector<VehicleTrack> vehicles;
   std::vector<LatencyRow> latency;
   std::vector<LatenessRow> lateness;
   std::vector<PeerRow> peers;             ///< empty for a single-vehicle scenario
@@ -148,9 +186,15 @@ struct RunRecord {
   double wall_time_s = 0.0;         ///< how long the run took
 };
 
-/// Writes summary.json, junit.xml, truth.tum, estimate.tum, timeseries.csv, latency.csv and
-/// lateness.csv into dir. Throws std::runtime_error naming the file on an I/O failure.
+/// Writes summary.json, junit.xml, truth.tum and estimate.tum (the primary vehicle),
+/// truth-<vehicle>.tum and estimate-<vehicle>.tum (every vehicle), timeseries.csv,
+/// latency.csv, lateness.csv and device-rates.csv into dir. Throws std::runtime_error naming
+/// the file on an I/O failure. Strings that are not valid UTF-8 are written with U+FFFD.
 void write_reports(const RunRecord& r, const std::string& dir);
+
+/// The files of one vehicle's track in a run folder.
+std::string truth_file_name(const std::string& vehicle);     ///< "truth-<vehicle>.tum"
+std::string estimate_file_name(const std::string& vehicle);  ///< "estimate-<vehicle>.tum"
 
 /// The one-screen verdict printed at the end of a run.
 std::string verdict_text(const RunRecord& r);

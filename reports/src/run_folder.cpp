@@ -1,0 +1,242 @@
+// SPDX-License-Identifier: MIT
+#include "nav/reports/run_folder.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <sstream>
+
+namespace nav::reports {
+namespace {
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+std::vector<std::string> split(const std::string& line, char sep) {
+  std::vector<std::string> out;
+  std::size_t start = 0;
+  for (;;) {
+    const auto at = line.find(sep, start);
+    out.push_back(line.substr(start, at - start));
+    if (at == std::string::npos) return out;
+    start = at + 1;
+  }
+}
+
+/// A decimal number (from_chars: no leading '+', no spaces); NaN for an empty field.
+bool parse_number(const std::string& text, double& v) {
+  if (text.empty()) {
+    v = std::numeric_limits<double>::quiet_NaN();
+    return true;
+  }
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+  return ec == std::errc{} && end == text.data() + text.size();
+}
+
+Error damaged(const std::string& path, std::size_t line, const std::string& what) {
+  return Error{ErrorCode::kParse, path + ":" + std::to_string(line) + ": " + what};
+}
+
+std::string strip_cr(std::string s) {
+  if (!s.empty() && s.back() == '\r') s.pop_back();
+  return s;
+}
+
+/// The last kDutLogTailBytes of a file, from a line start.
+std::string tail_of(const std::string& path, bool& cut) {
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
+  const auto size = static_cast<std::size_t>(std::max<std::streamoff>(in.tellg(), 0));
+  cut = size > kDutLogTailBytes;
+  in.seekg(static_cast<std::streamoff>(cut ? size - kDutLogTailBytes : 0));
+  std::string text(std::min(size, kDutLogTailBytes), '\0');
+  in.read(text.data(), static_cast<std::streamsize>(text.size()));
+  text.resize(static_cast<std::size_t>(std::max<std::streamsize>(in.gcount(), 0)));
+  if (cut) {
+    const auto nl = text.find('\n');
+    if (nl != std::string::npos) text.erase(0, nl + 1);
+  }
+  return text;
+}
+
+/// What a summary.json must hold for a report: an object with a verdict and a scenario name.
+std::string summary_problem(const json& j) {
+  if (!j.is_object()) return "not a JSON object";
+  const auto verdict = j.find("verdict");
+  if (verdict == j.end() || !verdict->is_string()) return "no \"verdict\"";
+  const auto sc = j.find("scenario");
+  if (sc == j.end() || !sc->is_object() || !sc->contains("name") || !(*sc)["name"].is_string()) {
+    return "no \"scenario\" with a \"name\"";
+  }
+  return {};
+}
+
+template <typename T>
+Result<bool> read_optional(const fs::path& path, T read, bool& has) {
+  std::error_code ec;
+  has = fs::is_regular_file(path, ec);
+  if (!has) return false;
+  return read(path.string());
+}
+
+}  // namespace
+
+const std::vector<double>& CsvColumns::operator[](const std::string& name) const {
+  static const std::vector<double> kEmpty;
+  const auto it = numbers.find(name);
+  return it == numbers.end() ? kEmpty : it->second;
+}
+
+Result<CsvColumns> read_csv(const std::string& path, const std::vector<std::string>& text_columns) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return fail(ErrorCode::kNotFound, path + ": cannot be read");
+  std::string line;
+  if (!std::getline(in, line)) return tl::unexpected(damaged(path, 1, "empty file, expected a header line"));
+  const auto names = split(strip_cr(line), ',');
+  std::vector<bool> is_text;
+  CsvColumns out;
+  for (const auto& n : names) {
+    const bool text = std::find(text_columns.begin(), text_columns.end(), n) != text_columns.end();
+    is_text.push_back(text);
+    if (text) out.texts[n];
+    else out.numbers[n];
+  }
+  std::vector<std::vector<double>*> num(names.size(), nullptr);
+  std::vector<std::vector<std::string>*> txt(names.size(), nullptr);
+  for (std::size_t c = 0; c < names.size(); ++c) {
+    if (is_text[c]) txt[c] = &out.texts[names[c]];
+    else num[c] = &out.numbers[names[c]];
+  }
+  std::size_t line_no = 1;
+  while (std::getline(in, line)) {
+    ++line_no;
+    line = strip_cr(line);
+    if (line.empty()) continue;
+    const auto fields = split(line, ',');
+    if (fields.size() != names.size()) {
+      return tl::unexpected(damaged(path, line_no, "expected " + std::to_string(names.size()) +
+                                                       " fields, got " + std::to_string(fields.size())));
+    }
+    for (std::size_t c = 0; c < fields.size(); ++c) {
+      if (txt[c]) {
+        txt[c]->push_back(fields[c]);
+        continue;
+      }
+      double v = 0.0;
+      if (!parse_number(fields[c], v)) {
+        return tl::unexpected(damaged(path, line_no, "column " + names[c] + ": expected a number, got '" +
+                                                         fields[c].substr(0, 40) + "'"));
+      }
+      num[c]->push_back(v);
+    }
+    ++out.rows;
+  }
+  return out;
+}
+
+Result<std::vector<TumPose>> read_tum(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return fail(ErrorCode::kNotFound, path + ": cannot be read");
+  std::vector<TumPose> out;
+  std::string line;
+  std::size_t line_no = 0;
+  while (std::getline(in, line)) {
+    ++line_no;
+    line = strip_cr(line);
+    if (line.empty() || line.front() == '#') continue;
+    const auto fields = split(line, ' ');
+    std::array<double, 8> v{};
+    if (fields.size() != v.size()) {
+      return tl::unexpected(damaged(path, line_no, "expected 8 numbers (t x y z qx qy qz qw), got " +
+                                                       std::to_string(fields.size()) + " fields"));
+    }
+    for (std::size_t k = 0; k < v.size(); ++k) {
+      if (!parse_number(fields[k], v[k]) || std::isnan(v[k])) {
+        return tl::unexpected(damaged(path, line_no, "expected a number, got '" + fields[k].substr(0, 40) + "'"));
+      }
+    }
+    out.push_back({v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7]});
+  }
+  return out;
+}
+
+Result<RunFolder> read_run_folder(const std::string& dir) {
+  RunFolder f;
+  f.dir = dir;
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) return fail(ErrorCode::kNotFound, dir + ": not a folder");
+  const fs::path root(dir);
+  const std::string summary_path = (root / "summary.json").string();
+  std::ifstream in(summary_path, std::ios::binary);
+  if (!in) {
+    return fail(ErrorCode::kNotFound,
+                dir + ": not a run folder (no summary.json) nor a campaign folder (no "
+                      "campaign.json)");
+  }
+  std::ostringstream text;
+  text << in.rdbuf();
+  f.summary = json::parse(text.str(), nullptr, false);
+  if (f.summary.is_discarded()) {
+    return fail(ErrorCode::kParse, summary_path + ": not valid JSON (damaged or cut short)");
+  }
+  if (const auto problem = summary_problem(f.summary); !problem.empty()) {
+    return fail(ErrorCode::kParse, summary_path + ": not a navbench run summary: " + problem);
+  }
+
+  const auto csv = [](std::vector<std::string> texts, CsvColumns& into) {
+    return [texts = std::move(texts), &into](const std::string& path) -> Result<bool> {
+      auto t = read_csv(path, texts);
+      if (!t) return tl::unexpected(t.error());
+      into = std::move(*t);
+      return true;
+    };
+  };
+  for (auto r : {read_optional(root / "timeseries.csv", csv({}, f.timeseries), f.has_timeseries),
+                 read_optional(root / "latency.csv", csv({}, f.latency), f.has_latency),
+                 read_optional(root / "lateness.csv", csv({"device"}, f.lateness), f.has_lateness),
+                 read_optional(root / "device-rates.csv", csv({"device"}, f.rates), f.has_rates)}) {
+    if (!r) return tl::unexpected(r.error());
+  }
+
+  // Vehicles: as summary.json lists them; an older run: the primary's truth.tum/estimate.tum.
+  std::vector<std::pair<std::string, bool>> names;
+  if (const auto v = f.summary.find("vehicles"); v != f.summary.end() && v->is_array()) {
+    for (const auto& veh : *v) {
+      if (veh.is_object() && veh.contains("name") && veh["name"].is_string()) {
+        names.emplace_back(veh["name"].get<std::string>(), veh.value("primary", false));
+      }
+    }
+  }
+  if (names.empty()) names.emplace_back("", true);
+  for (const auto& [name, primary] : names) {
+    VehicleFiles v;
+    v.name = name;
+    v.primary = primary;
+    const auto file = [&](const std::string& kind) {
+      const fs::path own = root / (kind + "-" + name + ".tum");
+      return name.empty() || (primary && !fs::exists(own, ec)) ? root / (kind + ".tum") : own;
+    };
+    const auto tum = [](std::vector<TumPose>& into) {
+      return [&into](const std::string& path) -> Result<bool> {
+        auto t = read_tum(path);
+        if (!t) return tl::unexpected(t.error());
+        into = std::move(*t);
+        return true;
+      };
+    };
+    for (auto r : {read_optional(file("truth"), tum(v.truth), v.has_truth),
+                   read_optional(file("estimate"), tum(v.estimate), v.has_estimate)}) {
+      if (!r) return tl::unexpected(r.error());
+    }
+    f.vehicles.push_back(std::move(v));
+  }
+
+  const fs::path log = root / "dut.log";
+  f.has_dut_log = fs::is_regular_file(log, ec);
+  if (f.has_dut_log) f.dut_log_tail = tail_of(log.string(), f.dut_log_cut);
+  return f;
+}
+
+}  // namespace nav::reports

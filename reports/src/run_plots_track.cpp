@@ -1,0 +1,237 @@
+// SPDX-License-Identifier: MIT
+// Track and error plots of a run report.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "json_get.hpp"
+#include "nav/reports/decimate.hpp"
+#include "run_plots.hpp"
+
+namespace nav::reports::detail {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+struct Columns {
+  std::vector<double> t, n, e, d;
+};
+
+Columns columns(const std::vector<TumPose>& poses) {
+  Columns c;
+  for (const auto& p : poses) {
+    c.t.push_back(p.t_s);
+    c.n.push_back(p.n);
+    c.e.push_back(p.e);
+    c.d.push_back(p.d);
+  }
+  return c;
+}
+
+bool in_window(double t, const std::vector<Window>& windows) {
+  return std::any_of(windows.begin(), windows.end(),
+                     [t](const Window& w) { return t >= w.x0 && t <= w.x1; });
+}
+
+/// Adds one xy series: y against x at the kept indices.
+void add_xy(json& plot, const Series& s, const std::vector<double>& x,
+            const std::vector<double>& y, const std::vector<std::size_t>& keep) {
+  plot["series"].push_back(series_json(s));
+  plot["data"].push_back(json::array({numbers(pick(x, keep), 7), numbers(pick(y, keep), 7)}));
+}
+
+std::string vehicle_label(const VehicleFiles& v, const char* what) {
+  return v.primary ? std::string(what) : v.name + " " + what;
+}
+
+json track_plot(const RunFolder& f, const std::vector<Window>& faults) {
+  json p = plot_frame("plot-track", "Track: estimate and truth, north against east", "xy",
+                      "east [m]", "north [m]", 440);
+  p["equal"] = true;
+  for (std::size_t i = 0; i < f.vehicles.size(); ++i) {
+    const auto& v = f.vehicles[i];
+    const char* truth_color = v.primary ? color::kTruth : "#9a9a9a";
+    const std::string est_color = v.primary ? color::kEstimate : color::cycle(i + 3);
+    if (v.has_truth && !v.truth.empty()) {
+      const Columns c = columns(v.truth);
+      const auto keep = decimate_min_max(c.t, {&c.n, &c.e}, kPlotBuckets);
+      add_xy(p, {vehicle_label(v, "truth"), truth_color, "linear", v.primary ? 1.5 : 1.0}, c.e, c.n, keep);
+    }
+    if (v.has_estimate && !v.estimate.empty()) {
+      const Columns c = columns(v.estimate);
+      const auto keep = decimate_min_max(c.t, {&c.n, &c.e}, kPlotBuckets);
+      add_xy(p, {vehicle_label(v, "estimate"), est_color, "linear", 1.5}, c.e, c.n, keep);
+      if (v.primary && !faults.empty()) {
+        // The estimate while a fault was active, drawn over it.
+        Columns in;
+        for (std::size_t k = 0; k < c.t.size(); ++k) {
+          if (!in_window(c.t[k], faults)) continue;
+          in.t.push_back(c.t[k]);
+          in.n.push_back(c.n[k]);
+          in.e.push_back(c.e[k]);
+        }
+        if (!in.t.empty()) {
+          const auto kin = decimate_min_max(in.t, {&in.n, &in.e}, kPlotBuckets);
+          add_xy(p, {"estimate during a fault", color::kFault, "points", 0, 3.5}, in.e, in.n, kin);
+        }
+      }
+    }
+    // Start (truth) and ends (truth, estimate) marked.
+    if (v.has_truth && !v.truth.empty()) {
+      const auto& a = v.truth.front();
+      const auto& b = v.truth.back();
+      add_xy(p, {vehicle_label(v, "start"), color::kStart, "points", 0, 9}, {a.e}, {a.n}, {0});
+      add_xy(p, {vehicle_label(v, "end (truth)"), truth_color, "points", 0, 9}, {b.e}, {b.n}, {0});
+    }
+    if (v.has_estimate && !v.estimate.empty()) {
+      const auto& b = v.estimate.back();
+      add_xy(p, {vehicle_label(v, "end (estimate)"), est_color, "points", 0, 9}, {b.e}, {b.n}, {0});
+    }
+  }
+  return p;
+}
+
+json depth_plot(const RunFolder& f) {
+  json p = plot_frame("plot-depth", "Depth against time", "xy", "time [s]", "depth [m]", 440);
+  p["y"]["invert"] = true;
+  if (f.vehicles.empty()) return p;
+  const auto& v = f.vehicles.front();
+  for (const auto* poses : {&v.truth, &v.estimate}) {
+    if (poses->empty()) continue;
+    const Columns c = columns(*poses);
+    const auto keep = decimate_min_max(c.t, {&c.d}, kPlotBuckets);
+    const bool truth = poses == &v.truth;
+    add_xy(p, {truth ? "truth" : "estimate", truth ? color::kTruth : color::kEstimate}, c.t, c.d, keep);
+  }
+  return p;
+}
+
+/// One error quantity of timeseries.csv.
+struct Quantity {
+  const char* kind;     ///< check kind judging it
+  const char* column;   ///< timeseries.csv column
+  const char* name;     ///< "horizontal error"
+  const char* unit;
+};
+
+constexpr Quantity kQuantities[] = {
+    {"horizontal_error", "err_horizontal_m", "Horizontal error", "m"},
+    {"vertical_error", "err_vertical_m", "Vertical error", "m"},
+    {"attitude_error", "err_attitude_deg", "Attitude error", "deg"},
+};
+
+/// The kind of a check of summary.json (older summaries have no kind: the name then).
+std::string check_kind(const json& c) {
+  return get_string(c, "kind").value_or(get_string(c, "name", ""));
+}
+
+json error_plot(const RunFolder& f, const Quantity& q, const json* check,
+                const std::vector<Window>& faults, const std::string& id) {
+  const auto& ts = f.timeseries;
+  const auto& t = ts["t_s"];
+  const auto& v = ts[q.column];
+  const auto& dist = ts["distance_m"];
+  std::string title = q.name;
+  if (check) {
+    title += ": check " + get_string(*check, "name", "?");
+    if (const auto req = get_string(*check, "req")) title += " (" + *req + ")";
+  }
+  json p = plot_frame(id, title, "shared", "time [s]", std::string(q.name) + " [" + q.unit + "]");
+  p["windows"] = windows_json(faults);
+  if (t.empty() || v.size() != t.size()) {
+    p["note"] = "no solutions with a valid position";
+    return p;
+  }
+  // The envelope of the check at each sample: null before `after` (not judged).
+  std::vector<double> limit(t.size(), kNaN), over(t.size(), kNaN);
+  std::size_t n_over = 0, judged = 0;
+  if (check) {
+    const double base = get_number(*check, "limit", kNaN);
+    const double per_m = get_number(*check, "per_distance", 0.0);
+    const double after = get_number(*check, "after_s", 0.0);
+    for (std::size_t k = 0; k < t.size(); ++k) {
+      if (t[k] < after) continue;
+      const double d = k < dist.size() && std::isfinite(dist[k]) ? dist[k] : 0.0;
+      limit[k] = base + per_m * d;
+      ++judged;
+      if (v[k] > limit[k]) {
+        over[k] = v[k];
+        ++n_over;
+      }
+    }
+  }
+  const auto keep = decimate_min_max(t, {&v, &over}, kPlotBuckets);
+  p["data"].push_back(numbers(pick(t, keep), 7));
+  p["series"].push_back(series_json({"error", color::kEstimate}));
+  p["data"].push_back(numbers(pick(v, keep)));
+  if (check) {
+    // The limit, with the allowed envelope shaded below it.
+    json limit_series = series_json({"limit", color::kLimit, "linear", 1.0, 0, color::kBand, "y", true});
+    limit_series["fill_to"] = 0;
+    p["series"].push_back(std::move(limit_series));
+    p["data"].push_back(numbers(pick(limit, keep)));
+    p["series"].push_back(series_json({"over the limit", color::kBad, "points", 0, 5}));
+    p["data"].push_back(numbers(pick(over, keep)));
+    p["note"] = std::to_string(n_over) + " of " + std::to_string(judged) +
+                " judged samples over the limit (shaded: the allowed envelope; orange: fault "
+                "windows)";
+  }
+  return p;
+}
+
+}  // namespace
+
+std::vector<Window> fault_windows(const RunFolder& f, const std::string& device) {
+  std::vector<Window> out;
+  for (const auto& fault : get_array(f.summary, "faults")) {
+    const std::string dev = get_string(fault, "device", "");
+    if (!device.empty() && dev != device) continue;
+    const auto a = get_number(fault, "start_s"), b = get_number(fault, "end_s");
+    if (!a || !b) continue;
+    out.push_back({*a, *b, dev + " " + get_string(fault, "kind", "fault")});
+  }
+  return out;
+}
+
+void add_track_plots(const RunFolder& f, RunPlots& out) {
+  const auto faults = fault_windows(f);
+  PlotSection track{"track", "Track", {}, {}, true};
+  const bool any = std::any_of(f.vehicles.begin(), f.vehicles.end(), [](const VehicleFiles& v) {
+    return !v.truth.empty() || !v.estimate.empty();
+  });
+  if (any) {
+    track.plots.push_back(track_plot(f, faults));
+    track.plots.push_back(depth_plot(f));
+  } else {
+    track.empty_note = "No trajectory recorded (truth.tum and estimate.tum are missing or empty).";
+  }
+  out.sections.push_back(std::move(track));
+
+  PlotSection errors{"errors", "Errors against time", {}, {}, false};
+  if (!f.has_timeseries) {
+    errors.empty_note = "timeseries.csv not recorded.";
+  } else if (f.timeseries.rows == 0) {
+    errors.empty_note = "The DUT gave no solution with a valid position: no error to plot.";
+  } else {
+    const auto& checks = get_array(f.summary, "checks");
+    for (const auto& q : kQuantities) {
+      std::size_t made = 0;
+      for (const auto& c : checks) {
+        if (check_kind(c) != q.kind) continue;
+        const std::string id = "plot-check-" + std::to_string(&c - &checks[0]);
+        errors.plots.push_back(error_plot(f, q, &c, faults, id));
+        out.check_anchor[get_string(c, "name", "")] = id;
+        ++made;
+      }
+      if (made == 0) {
+        errors.plots.push_back(error_plot(f, q, nullptr, faults, std::string("plot-") + q.kind));
+      }
+    }
+  }
+  out.sections.push_back(std::move(errors));
+  for (const auto& c : get_array(f.summary, "checks")) {
+    if (check_kind(c) == "endpoint_error") out.check_anchor[get_string(c, "name", "")] = "plot-track";
+  }
+}
+
+}  // namespace nav::reports::detail

@@ -1,0 +1,84 @@
+// SPDX-License-Identifier: MIT
+// The one-screen verdict printed at the end of a run.
+#include <cstdio>
+#include <sstream>
+
+#include "nav/reports/run_record.hpp"
+
+namespace nav::reports {
+
+std::string fault_text(const FaultRow& f) {
+  char line[256];
+  std::snprintf(line, sizeof line, "%s %s %.1f\u2013%.1f s, %zu message%s", f.device.c_str(),
+                f.kind.c_str(), f.start_s, f.end_s, f.messages_affected,
+                f.messages_affected == 1 ? "" : "s");
+  return line;
+}
+
+std::string verdict_text(const RunRecord& r) {
+  std::ostringstream o;
+  char line[256];
+  std::snprintf(line, sizeof line, "navbench run %s  (seed %llu, %s, %.1f s, wall %.1f s)\n",
+                r.scenario_name.c_str(), static_cast<unsigned long long>(r.seed), r.mode.c_str(),
+                r.duration_s, r.wall_time_s);
+  o << line;
+  o << "  DUT: " << r.dut_status << "; " << r.answers << " solutions for " << r.triggers_sent
+    << " triggers";
+  if (r.unmatched_answers) o << ", " << r.unmatched_answers << " naming no trigger";
+  if (r.malformed_output) o << ", " << r.malformed_output << " malformed lines";
+  o << '\n';
+  for (const auto& p : r.peers) {
+    o << "  peer " << p.name << ": DUT " << p.dut_status << "; " << p.answers
+      << " solutions for " << p.triggers_sent << " triggers\n";
+  }
+  for (const auto& l : r.modem_links) {
+    o << "  acoustic " << l.from << " -> " << l.to << ": " << l.packets_delivered << " of "
+      << l.packets_sent << " packets delivered, " << l.packets_lost << " lost, "
+      << l.packets_out_of_range << " out of range\n";
+  }
+  for (const auto& b : r.can_buses) {
+    std::snprintf(line, sizeof line,
+                  "  CAN %s %g kbit/s: %zu frames (%zu dropped), bus load %.2f %%, queueing "
+                  "p50 %.3f ms p99 %.3f ms max %.3f ms\n",
+                  b.interface.c_str(), b.bitrate_bps / 1e3, b.frames_sent, b.frames_dropped,
+                  b.bus_load * 100.0, b.queueing_delay.p50_s * 1e3, b.queueing_delay.p99_s * 1e3,
+                  b.queueing_delay.max_s * 1e3);
+    o << line;
+    if (b.write_lateness.count > 0) {
+      std::snprintf(line, sizeof line,
+                    "  CAN %s write lateness  p50 %.3f ms  p99 %.3f ms  max %.3f ms  (%zu frames)\n",
+                    b.interface.c_str(), b.write_lateness.p50_s * 1e3,
+                    b.write_lateness.p99_s * 1e3, b.write_lateness.max_s * 1e3,
+                    b.write_lateness.count);
+      o << line;
+    }
+  }
+  for (const auto& c : r.checks) {
+    const char* tag = !c.judged ? "SKIP" : c.passed ? "PASS" : "FAIL";
+    const std::string req = c.req.empty() ? std::string() : " [" + c.req + "]";
+    std::snprintf(line, sizeof line, "  %s  %-17s %s%s\n", tag, c.name.c_str(), c.detail.c_str(),
+                  req.c_str());
+    o << line;
+  }
+  for (const auto& f : r.faults) o << "  FAULT " << fault_text(f) << '\n';
+  const auto ms = [](double s) { return s * 1e3; };
+  if (r.bench_lateness.count > 0) {
+    std::snprintf(line, sizeof line,
+                  "  bench lateness  p50 %.3f ms  p99 %.3f ms  max %.3f ms  (%zu messages, "
+                  "budget p99 %.1f ms)\n",
+                  ms(r.bench_lateness.p50_s), ms(r.bench_lateness.p99_s),
+                  ms(r.bench_lateness.max_s), r.bench_lateness.count,
+                  ms(r.lateness_budget_p99_s));
+  } else {
+    std::snprintf(line, sizeof line, "  bench lateness  n/a (lockstep: virtual time)\n");
+  }
+  o << line;
+  std::snprintf(line, sizeof line, "  %-14s  p50 %.3f ms  p99 %.3f ms  max %.3f ms  (%zu)\n",
+                r.mode == "lockstep" ? "DUT compute" : "DUT latency", ms(r.dut_latency.p50_s),
+                ms(r.dut_latency.p99_s), ms(r.dut_latency.max_s), r.dut_latency.count);
+  o << line;
+  o << "VERDICT: " << r.verdict << "   report: " << r.run_dir << "/report.html\n";
+  return o.str();
+}
+
+}  // namespace nav::reports
