@@ -173,8 +173,8 @@ json error_plot(const RunFolder& f, const Quantity& q, const json* check,
     p["series"].push_back(series_json({"over the limit", color::kBad, "points", 0, 5}));
     p["data"].push_back(numbers(pick(over, keep)));
     p["note"] = std::to_string(n_over) + " of " + std::to_string(judged) +
-                " judged samples over the limit (shaded: the allowed envelope; orange: fault "
-                "windows)";
+                " judged samples over the limit (shaded green: the allowed envelope" +
+                (faults.empty() ? ")" : "; orange: fault windows)");
   }
   return p;
 }
