@@ -75,19 +75,17 @@ void OutputReader::consume(Timestamp rx) {
       ++malformed_;
       continue;
     }
+    ++answers_by_tag_[sol->trigger_tag];
     answers_.push_back(Answer{rx, std::move(*sol)});
   }
   buffer_.erase(buffer_.begin(), buffer_.begin() + static_cast<std::ptrdiff_t>(used));
 }
 
-bool OutputReader::wait_for(std::uint64_t tag, Timestamp deadline) {
+bool OutputReader::wait_for(std::uint64_t tag, Timestamp deadline, std::size_t count) {
   std::unique_lock lock(mutex_);
   for (;;) {
-    // Answers arrive in trigger order in lockstep; look at the newest few only.
-    const auto n = answers_.size();
-    for (std::size_t i = n > 8 ? n - 8 : 0; i < n; ++i) {
-      if (answers_[i].solution.trigger_tag == tag) return true;
-    }
+    const auto it = answers_by_tag_.find(tag);
+    if (it != answers_by_tag_.end() && it->second >= count) return true;
     const Timestamp now = monotonic_now();
     if (now >= deadline) return false;
     const auto slice = std::min<Duration>(deadline - now, std::chrono::milliseconds(20));

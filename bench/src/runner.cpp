@@ -234,6 +234,9 @@ class Run {
     std::size_t triggers_sent = 0;
     std::vector<Timestamp> sent_wire_ends;  ///< of the triggers sent, in send order
     std::uint64_t last_trigger_tag = 0;
+    /// Lockstep: answers naming each trigger tag the DUT may give so far (1 per trigger, one
+    /// more per copy a `stuck` fault sent).
+    std::unordered_map<std::uint64_t, std::size_t> answers_expected;
     bool failed = false;  ///< crashed or hung
     std::string status;
   };
@@ -248,6 +251,11 @@ class Run {
   void run_realtime();
   void run_lockstep();
   void drain();
+  /// Lockstep: after a copy of a trigger (a `stuck` fault) on a vehicle's trigger line, waits
+  /// until its DUT answered the copy too, or one watchdog period for a DUT that does not answer
+  /// repeats (not a hang): either way the DUT is idle before the next message, so the run
+  /// stays reproducible. False when the run must stop.
+  bool wait_for_repeat_answer(Vehicle& veh, const ScheduledMessage& m);
   /// Watches every DUT; false (with status set) once one crashed or hung.
   bool dut_ok(Timestamp now);
   bool vehicle_ok(Vehicle& veh, Timestamp now);
@@ -850,13 +858,15 @@ void Run::run_lockstep() {
     progress(m.start);
     if (!is_trigger(m)) {
       lines_[m.device].flush();  // visible to the DUT before the next trigger
+      if (!wait_for_repeat_answer(veh, m)) return;
       continue;
     }
     auto& tr = trigger_record(k);
     tr.sent = true;
     tr.wire_end = monotonic_now();
     note_trigger_sent(veh, tr);
-    // Barrier: the next trigger leaves only once the DUT of its vehicle answered this one.
+    veh.answers_expected[tr.tag] = 1;
+    // Barrier: the next message leaves only once the DUT of its vehicle answered this one.
     const Timestamp deadline = tr.wire_end + veh.dut->watchdog;
     while (!veh.reader->wait_for(tr.tag, std::min(deadline, monotonic_now() + kCheckPeriod))) {
       if (g_interrupted || !dut_ok(monotonic_now())) return;
@@ -864,15 +874,30 @@ void Run::run_lockstep() {
   }
 }
 
+bool Run::wait_for_repeat_answer(Vehicle& veh, const ScheduledMessage& m) {
+  const auto& repeated = message(m).repeat_of_tag;
+  if (!repeated || m.device != veh.trigger_device) return true;
+  const auto expected = veh.answers_expected.find(*repeated);
+  if (expected == veh.answers_expected.end()) return true;  // its original was never sent
+  const std::size_t count = ++expected->second;
+  const Timestamp deadline = monotonic_now() + veh.dut->watchdog;
+  while (!veh.reader->wait_for(*repeated, std::min(deadline, monotonic_now() + kCheckPeriod),
+                               count)) {
+    if (g_interrupted || !dut_ok(monotonic_now())) return false;
+    if (monotonic_now() >= deadline) break;
+  }
+  return true;
+}
+
 void Run::drain() {
-  // After the last message: wait until each DUT answered its last trigger (or every trigger),
-  // at most one watchdog period; the rest count as unanswered.
+  // After the last message: wait until each DUT answered its last trigger, at most one
+  // watchdog period; the rest count as unanswered. (Not "as many answers as triggers": a DUT
+  // that answers repeated packets too reaches that count before its last answer.)
   const Timestamp end = monotonic_now() + max_watchdog();
   while (!g_interrupted && dut_ok(monotonic_now())) {
     const Timestamp now = monotonic_now();
     const bool done = std::all_of(vehicles_.begin(), vehicles_.end(), [&](const Vehicle& v) {
-      return v.triggers_sent == 0 || v.reader->answer_count() >= v.triggers_sent ||
-             v.reader->wait_for(v.last_trigger_tag, now);
+      return v.triggers_sent == 0 || v.reader->wait_for(v.last_trigger_tag, now);
     });
     if (done || now >= end) return;
     std::this_thread::sleep_for(5ms);

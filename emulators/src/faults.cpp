@@ -10,7 +10,8 @@
 //   stuck         no draw            bytes := those of the last message with t_valid < start
 //                                    (greatest t_valid, later one on ties), tag cleared (a
 //                                    repeat names a trigger already sent, so it is no new
-//                                    trigger); removed when there is none
+//                                    trigger) and kept as repeat_of_tag; removed when there
+//                                    is none
 //   garbage       n raw outputs      bytes := n random bytes (low 8 bits of one raw output
 //                                    each), trigger_tag cleared
 //   slow          no draw            the i-th message inside the window (i = 0, 1, ...) is
@@ -131,6 +132,7 @@ std::size_t apply_one(std::vector<WireMessage>& msgs, const FaultSpec& f,
         ++affected;
         if (!copied) continue;  // nothing to repeat: the device is silent
         m.bytes = copied->bytes;
+        m.repeat_of_tag = copied->trigger_tag ? copied->trigger_tag : copied->repeat_of_tag;
         m.trigger_tag.reset();
         out.push_back(std::move(m));
       }

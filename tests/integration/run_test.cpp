@@ -163,6 +163,25 @@ TEST(NavbenchRun, SlowDutGetsItsDeadlineMissesCounted) {
   EXPECT_GE(s["dut_latency"]["p50_ms"].get<double>(), 50.0);
 }
 
+// The stuck fault repeats AHRS packets that navd answers again: the bench must wait for each
+// of those answers, or a GPS fix lands on another copy from run to run.
+TEST(NavbenchRun, FaultScenarioLockstepRunsAreBitReproducible) {
+  const auto dir = fresh_dir("faults-ls");
+  const auto scenario = source_path("scenarios/faults-gps-ahrs.yaml");
+  std::string first;
+  for (const char* out : {"a", "b", "c"}) {
+    const auto r = run_navbench({"run", scenario, "--mode", "lockstep", "--out", out, "-q"}, dir);
+    ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+    const std::string e = slurp(dir / out / "estimate.tum");
+    if (first.empty()) first = e;
+    EXPECT_EQ(e, first) << out;
+  }
+  // navd answered every copy of the stuck packet (50 copies in 18.5-19 s at 100 Hz).
+  EXPECT_EQ(summary(dir / "a")["dut"]["answers"].get<int>() -
+                summary(dir / "a")["dut"]["triggers_sent"].get<int>(),
+            50);
+}
+
 /// Capture lines "(<sec>.<nsec>) <port> <hex>" of one port: their times [s]. Lines before
 /// scenario time 0 (negative, written during the DUT's startup) only with before_zero.
 std::vector<double> capture_times(const std::string& capture, const std::string& port,
@@ -204,9 +223,12 @@ TEST(NavbenchRun, AllDevicesScenarioPassesInRealtime) {
   EXPECT_TRUE((*check(s, "vertical_error"))["passed"].get<bool>());
   // The two navds hear each other over the acoustic link: a report every 2 s each way.
   ASSERT_EQ(s["acoustic_links"].size(), 2u);
+  // None is lost; a report written less than its travel time (about 0.2 s) before the end of
+  // the run is still on the water when the run ends.
   for (const auto& l : s["acoustic_links"]) {
     EXPECT_GE(l["packets_delivered"].get<int>(), 11) << l.dump();
-    EXPECT_EQ(l["packets_delivered"], l["packets_sent"]) << l.dump();
+    EXPECT_EQ(l["packets_lost"], 0) << l.dump();
+    EXPECT_LE(l["packets_sent"].get<int>() - l["packets_delivered"].get<int>(), 1) << l.dump();
   }
   EXPECT_NE(s["peers"][0]["dut"]["status"].get<std::string>().find("alive"), std::string::npos);
 }

@@ -185,6 +185,7 @@ TEST(Faults, StuckRepeatsTheLastMessageBeforeTheWindow) {
     if (in_window(in[i], seconds(2), seconds(5))) {
       EXPECT_EQ(out[i].bytes, in[19].bytes) << i;
       EXPECT_FALSE(out[i].trigger_tag.has_value()) << i;  // a repeat is no new trigger
+      EXPECT_EQ(out[i].repeat_of_tag, in[19].trigger_tag) << i;  // but names the one it copies
     } else {
       EXPECT_TRUE(same(out[i], in[i])) << i;
     }
@@ -539,6 +540,16 @@ TEST(Faults, AppliedInOrderEachToThePreviousOutput) {
   for (const auto& m : out) {
     if (in_window(m, seconds(5), seconds(6))) {
       EXPECT_EQ(m.bytes, in[19].bytes);
+    }
+  }
+  // stuck twice: a copy of a copy still names the trigger first copied.
+  const auto twice = apply_faults(in,
+                                  {fault(Kind::kStuck, seconds(2), seconds(3)),
+                                   fault(Kind::kStuck, seconds(3), seconds(4))},
+                                  1, nullptr);
+  for (const auto& m : twice) {
+    if (in_window(m, seconds(2), seconds(4))) {
+      EXPECT_EQ(m.repeat_of_tag, in[19].trigger_tag);
     }
   }
   // slow then off on the same window: off removes what slow kept.

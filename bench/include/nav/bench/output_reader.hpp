@@ -9,6 +9,7 @@
 #include <mutex>
 #include <string>
 #include <thread>
+#include <unordered_map>
 #include <vector>
 
 #include "nav/common/time.hpp"
@@ -36,8 +37,9 @@ class OutputReader {
   /// Stops the thread after reading what is already buffered.
   void stop();
 
-  /// Waits until an answer with this tag has arrived or the deadline passes; true if it did.
-  bool wait_for(std::uint64_t tag, Timestamp deadline);
+  /// Waits until `count` answers naming this tag have arrived (a trigger repeated by a
+  /// `stuck` fault is answered once per copy) or the deadline passes; true if they did.
+  bool wait_for(std::uint64_t tag, Timestamp deadline, std::size_t count = 1);
   /// Time of the latest answer (0 if none).
   Timestamp last_answer_time() const;
   std::size_t answer_count() const;
@@ -58,6 +60,7 @@ class OutputReader {
   bool stop_ = false;
   protocols::Bytes buffer_;
   std::vector<Answer> answers_;
+  std::unordered_map<std::uint64_t, std::size_t> answers_by_tag_;  ///< answers naming each tag
   std::size_t malformed_ = 0;
 };
 

@@ -23,6 +23,9 @@ struct WireMessage {
   Duration t_send{};    ///< scheduled time of its first byte on the wire (scenario time) [ns]
   protocols::Bytes bytes;                 ///< encoded, exactly as on the wire
   std::optional<std::uint64_t> trigger_tag;  ///< sensor time tag the DUT echoes (AHRS timer)
+  /// A copy of an earlier trigger (a `stuck` fault): the tag it repeats. It is no new trigger
+  /// (trigger_tag is cleared), but a DUT may answer it again: lockstep waits for that.
+  std::optional<std::uint64_t> repeat_of_tag{};
 };
 
 /// Seed of a device's own engine from the scenario seed and the device name (FNV-1a of the
