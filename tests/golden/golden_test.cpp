@@ -18,7 +18,7 @@
 
 #include <gtest/gtest.h>
 
-#include "../integration/navbench_cli.hpp"
+#include "golden_support.hpp"
 #include "nav/bench/decode.hpp"
 
 namespace nav::testing {
@@ -39,15 +39,6 @@ std::vector<std::string> golden_scenarios() {
   return names;
 }
 
-std::uint64_t fnv1a64(const std::string& bytes) {
-  std::uint64_t h = 0xcbf29ce484222325ull;
-  for (const unsigned char c : bytes) {
-    h ^= c;
-    h *= 0x100000001b3ull;
-  }
-  return h;
-}
-
 /// The golden text of one run's DUT output.
 std::string golden_text(const std::string& scenario, const std::string& output) {
   std::vector<std::string> lines;
@@ -56,35 +47,17 @@ std::string golden_text(const std::string& scenario, const std::string& output) 
     if (!l.empty() && l.back() == '\r') l.pop_back();
     if (l.rfind("$PNVBSOL,", 0) == 0) lines.push_back(l);
   }
-  char digest[32];
-  std::snprintf(digest, sizeof digest, "%016llx",
-                static_cast<unsigned long long>(fnv1a64(output)));
   std::ostringstream o;
   o << "# Golden lockstep output of scenarios/" << scenario << ".yaml (navd's $PNVBSOL lines).\n"
     << "# Regenerate with scripts/update-golden after a deliberate change, in the same commit.\n"
     << "scenario " << scenario << "\n"
     << "solutions " << lines.size() << "\n"
     << "output_bytes " << output.size() << "\n"
-    << "output_fnv1a64 " << digest << "\n";
+    << "output_fnv1a64 " << hex64(fnv1a64(output)) << "\n";
   for (std::size_t i = 0; i < lines.size(); ++i) {
     if (i % kEvery == 0 || i + 1 == lines.size()) o << i << ' ' << lines[i] << '\n';
   }
   return o.str();
-}
-
-/// The first line where a and b differ, for the failure message.
-std::string first_difference(const std::string& a, const std::string& b) {
-  std::istringstream ia(a), ib(b);
-  std::string la, lb;
-  for (int n = 1;; ++n) {
-    const bool ea = !std::getline(ia, la);
-    const bool eb = !std::getline(ib, lb);
-    if (ea && eb) return "no difference";
-    if (ea || eb || la != lb) {
-      return "line " + std::to_string(n) + ":\n  golden: " + (ea ? "<end>" : la) +
-             "\n  now:    " + (eb ? "<end>" : lb);
-    }
-  }
 }
 
 class Golden : public ::testing::TestWithParam<std::string> {};
@@ -103,18 +76,7 @@ TEST_P(Golden, LockstepOutputMatchesTheGoldenFile) {
   ASSERT_TRUE(bytes.has_value()) << bytes.error().detail;
   const std::string now = golden_text(scenario, std::string(bytes->begin(), bytes->end()));
 
-  const fs::path golden = source_path("tests/golden/" + scenario + ".golden");
-  const char* update = std::getenv("NAV_UPDATE_GOLDEN");
-  if (update != nullptr && std::string(update) == "1") {
-    std::ofstream(golden, std::ios::binary) << now;
-    GTEST_SKIP() << "wrote " << golden;
-  }
-  ASSERT_TRUE(fs::exists(golden)) << golden << " is missing: run scripts/update-golden";
-  const std::string expected = slurp(golden);
-  EXPECT_TRUE(now == expected) << scenario << ": navd's lockstep output changed at "
-                           << first_difference(expected, now)
-                           << "\nIf the change is deliberate, run scripts/update-golden and "
-                              "commit the golden files with it.";
+  expect_golden("tests/golden/" + scenario + ".golden", now, scenario + ": navd's lockstep output");
   fs::remove_all(dir);
 }
 
