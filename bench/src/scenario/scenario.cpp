@@ -23,9 +23,9 @@
 #include <utility>
 
 #include "nav/common/units.hpp"
-#include "quantity.hpp"
-#include "scenario_devices.hpp"
-#include "yaml_reader.hpp"
+#include "scenario/quantity.hpp"
+#include "scenario/scenario_devices.hpp"
+#include "scenario/yaml_reader.hpp"
 
 namespace nav::bench {
 namespace {

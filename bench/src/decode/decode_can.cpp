@@ -18,7 +18,7 @@
 #include <string>
 #include <string_view>
 
-#include "decode_builders.hpp"
+#include "decode/decode_builders.hpp"
 #include "nav/protocols/candump_log.hpp"
 #include "nav/protocols/nmea2000.hpp"
 

@@ -26,7 +26,7 @@
 #include "nav/reports/atomic_file.hpp"
 #include "nav/reports/html_report.hpp"
 #include "nav/reports/json_text.hpp"
-#include "host_identity.hpp"
+#include "run/host_identity.hpp"
 
 namespace nav::bench {
 namespace {

@@ -22,7 +22,7 @@
 #include <vector>
 
 #include "nav/common/time.hpp"
-#include "quantity.hpp"
+#include "scenario/quantity.hpp"
 
 namespace nav::bench::detail {
 

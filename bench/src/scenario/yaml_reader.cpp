@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "yaml_reader.hpp"
+#include "scenario/yaml_reader.hpp"
 
 #include <algorithm>
 #include <cctype>

@@ -31,7 +31,7 @@
 #include "nav/bench/pty.hpp"
 #include "nav/bench/realtime.hpp"
 #include "nav/bench/wire_schedule.hpp"
-#include "device_tally.hpp"
+#include "run/device_tally.hpp"
 #include "nav/emulators/acoustic_modem.hpp"
 #include "nav/emulators/dvl_emulator.hpp"
 #include "nav/emulators/ebimu_emulator.hpp"
@@ -46,7 +46,7 @@
 #include "nav/reports/run_record.hpp"
 #include "nav/reports/sha256.hpp"
 #include "nav/common/version.hpp"
-#include "host_identity.hpp"
+#include "run/host_identity.hpp"
 #include "nav/transport/can_socket.hpp"
 #include "nav/transport/serial_port.hpp"
 

@@ -4,7 +4,7 @@
 #include <cstdio>
 #include <string>
 
-#include "decode_builders.hpp"
+#include "decode/decode_builders.hpp"
 #include "nav/protocols/navquest_nq1.hpp"
 #include "nav/protocols/rdi_pd0.hpp"
 #include "nav/protocols/rdi_pd6.hpp"

@@ -1,8 +1,10 @@
 // SPDX-License-Identifier: MIT
 // Private to nav_bench: the per-protocol parsers behind protocol_decoders() that turn one codec
 // message into JSON ("type" first, then fields named with their SI unit suffix; decode_stream
-// adds "offset"). decode_dvl.cpp holds the DVLs, decode_serial.cpp the other serial devices,
-// decode_can.cpp NMEA 2000 candump logs.
+// adds "offset"). decode_gx3_nmea.cpp holds the GX3 and NMEA 0183, decode_dvl.cpp the DVLs,
+// decode_serial.cpp the other serial devices, decode_can.cpp NMEA 2000 candump logs; the
+// helpers below are in decode_builders.cpp. decode.cpp, the table, depends on all of them and
+// none of them on it.
 #pragma once
 
 #include <functional>
@@ -38,6 +40,12 @@ template <typename T>
 json or_null(const std::optional<T>& v) {
   return v ? json(*v) : json(nullptr);
 }
+
+// decode_gx3_nmea.cpp
+/// MicroStrain GX3 replies (0xCB, 0xCE, 0xC4).
+protocols::ParseResult<json> parse_gx3(protocols::ByteSpan b);
+/// NMEA 0183 sentences, navd's $PNVBSOL and $PNVBPOS included.
+protocols::ParseResult<json> parse_nmea(protocols::ByteSpan b);
 
 // decode_dvl.cpp
 /// LinkQuest NavQuest NQ1 lines.

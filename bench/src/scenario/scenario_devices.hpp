@@ -4,7 +4,7 @@
 #pragma once
 
 #include "nav/bench/scenario.hpp"
-#include "yaml_reader.hpp"
+#include "scenario/yaml_reader.hpp"
 
 namespace nav::bench::detail {
 

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "quantity.hpp"
+#include "scenario/quantity.hpp"
 
 #include <array>
 #include <charconv>

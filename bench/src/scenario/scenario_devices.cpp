@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // The "vehicle.devices" section of a scenario (docs/scenario.md): device type, serial line,
 // rate and latency, and the GX3 and GPS error models.
-#include "scenario_devices.hpp"
+#include "scenario/scenario_devices.hpp"
 
 #include <algorithm>
 #include <cctype>

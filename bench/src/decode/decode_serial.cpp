@@ -4,7 +4,7 @@
 // g -> m/s^2, µs -> s).
 #include <string>
 
-#include "decode_builders.hpp"
+#include "decode/decode_builders.hpp"
 #include "nav/common/units.hpp"
 #include "nav/protocols/ebimu.hpp"
 #include "nav/protocols/evologics_usbl.hpp"
