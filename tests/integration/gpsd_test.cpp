@@ -49,7 +49,7 @@
 #include <nlohmann/json.hpp>
 
 #include "nav/bench/dut_process.hpp"
-#include "nav/bench/pty.hpp"
+#include "nav/transport/pty.hpp"
 #include "nav/common/geodesy.hpp"
 #include "nav/common/units.hpp"
 #include "nav/emulators/device.hpp"
@@ -335,7 +335,7 @@ TEST_P(GpsdPeer, ReportsTheEmittedTruth) {
     expected.push_back(e);
   }
 
-  auto pty = bench::Pty::open();
+  auto pty = transport::Pty::open();
   ASSERT_TRUE(pty) << pty.error().detail;
   const fs::path dir = fs::path(::testing::TempDir()) /
                        ("navbench-gpsd-" + std::string(tc.name) + "-" + std::to_string(::getpid()));

@@ -20,7 +20,7 @@
 #include <vector>
 
 #include "nav/bench/decode.hpp"
-#include "nav/bench/pty.hpp"
+#include "nav/transport/pty.hpp"
 #include "nav/protocols/microstrain_gx3.hpp"
 #include "nav/protocols/navd_solution.hpp"
 #include "nav/protocols/nmea0183.hpp"
@@ -127,7 +127,7 @@ void write_line(std::FILE* f, double t, const std::string& port, protocols::Byte
 
 TEST(NavbenchRecord, CapturesBytesWrittenToAPtyInOrderWithTimes) {
   const auto dir = fresh_dir("record");
-  auto pty = bench::Pty::open();
+  auto pty = transport::Pty::open();
   ASSERT_TRUE(pty) << pty.error().detail;
   Child c = Child::spawn({"record", "gps=" + pty->slave_path() + "@9600", "--duration", "1.5",
                           "-o", "cap.log"}, dir);
@@ -177,7 +177,7 @@ TEST(NavbenchRecord, CapturesBytesWrittenToAPtyInOrderWithTimes) {
 
 TEST(NavbenchRecord, StopsCleanlyOnSigterm) {
   const auto dir = fresh_dir("record-term");
-  auto pty = bench::Pty::open();
+  auto pty = transport::Pty::open();
   ASSERT_TRUE(pty) << pty.error().detail;
   Child c = Child::spawn({"record", "a=" + pty->slave_path() + "@115200", "-o", "cap.log"}, dir);
   ASSERT_GT(c.pid, 0);
@@ -299,7 +299,7 @@ TEST(NavbenchReplay, PlaysACaptureToNavdWhichAnswersEveryPacket) {
 
 TEST(NavbenchReplay, MappedPortGetsTheBytesWithScaledTiming) {
   const auto dir = fresh_dir("replay-mapped");
-  auto pty = bench::Pty::open();
+  auto pty = transport::Pty::open();
   ASSERT_TRUE(pty) << pty.error().detail;
   {
     std::FILE* f = std::fopen((dir / "cap.log").c_str(), "w");

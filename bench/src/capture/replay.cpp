@@ -19,13 +19,13 @@
 
 #include "nav/bench/dut_process.hpp"
 #include "nav/bench/output_reader.hpp"
-#include "nav/bench/pty.hpp"
 #include "nav/bench/realtime.hpp"
 #include "nav/bench/runner.hpp"
 #include "nav/protocols/candump_log.hpp"
 #include "nav/reports/run_record.hpp"
 #include "nav/transport/can_socket.hpp"
 #include "nav/transport/serial_port.hpp"
+#include "lines/bench_line.hpp"
 
 namespace nav::bench {
 namespace {
@@ -42,18 +42,12 @@ std::atomic<bool> g_interrupted{false};
 extern "C" void on_replay_signal(int) { g_interrupted = true; }
 
 
-/// The bench's end of one replayed line: a pty, a real port, or a CAN interface.
-struct Line {
+/// One replayed line: the bench's end of it and what went through it.
+struct Port {
   std::string name;
-  std::optional<Pty> pty;
-  std::optional<transport::SerialPort> serial;
-  std::optional<transport::CanSocket> can;
+  BenchLine line;
   std::size_t bytes = 0, dropped = 0, lines = 0;
-  std::string send_error;  // the first CAN send failure other than a full queue
-  int fd() const { return pty ? pty->master() : can ? can->fd() : serial->fd(); }
-  std::string path() const {
-    return pty ? pty->slave_path() : can ? can->ifname() : serial->path();
-  }
+  std::string send_error{};  // the first CAN send failure other than a full queue
 };
 
 /// Parses a candump log into capture lines (port = the log's interface, no bytes) and the
@@ -108,12 +102,12 @@ Result<std::vector<CaptureLine>> parse_candump(const std::string& text, const st
 }
 
 /// Sends one frame; a full transmit queue is waited for briefly, then the frame is dropped.
-void send_frame(Line& p, const transport::CanFrame& f) {
-  auto ok = p.can->send(f);
+void send_frame(Port& p, const transport::CanFrame& f) {
+  auto ok = p.line.can()->send(f);
   if (!ok && ok.error().code == ErrorCode::kTimeout) {
-    pollfd pf{p.can->fd(), POLLOUT, 0};
+    pollfd pf{p.line.fd(), POLLOUT, 0};
     (void)::poll(&pf, 1, kCanQueueWaitMs);
-    ok = p.can->send(f);
+    ok = p.line.can()->send(f);
   }
   if (ok) {
     p.bytes += f.rtr ? 0 : f.dlc;
@@ -125,19 +119,11 @@ void send_frame(Line& p, const transport::CanFrame& f) {
   }
 }
 
-Result<Line> open_line(const std::string& name, const std::optional<PortMapping>& map) {
-  Line l;
-  l.name = name;
-  if (!map) {
-    auto p = Pty::open();
-    if (!p) return tl::unexpected(p.error());
-    l.pty.emplace(std::move(*p));
-  } else {
-    auto s = transport::SerialPort::open(map->path, map->baud.value_or(kDefaultBaud));
-    if (!s) return tl::unexpected(s.error());
-    l.serial.emplace(std::move(*s));
-  }
-  return l;
+Result<Port> open_port(const std::string& name, const std::optional<PortMapping>& map) {
+  auto line = map ? BenchLine::open_serial(map->path, map->baud.value_or(kDefaultBaud))
+                  : BenchLine::open_serial("pty", kDefaultBaud);
+  if (!line) return tl::unexpected(line.error());
+  return Port{name, std::move(*line)};
 }
 
 std::string ms(double s) {
@@ -327,34 +313,31 @@ int replay_capture(const ReplayOptions& o) {
   }
 
   // --- open the lines ----------------------------------------------------------------------
-  std::vector<Line> ports;
+  std::vector<Port> ports;
   for (std::size_t i = 0; i < names.size(); ++i) {
     if (is_can) {
-      auto sock = transport::CanSocket::open(can_ifaces[i], transport::CanSocketOptions{
-                                                                .receive_own_frames = false,
-                                                                .loopback = true,
-                                                                .timestamps = false});
-      if (!sock) {
+      auto line = BenchLine::open_can(can_ifaces[i], transport::CanSocketOptions{
+                                                         .receive_own_frames = false,
+                                                         .loopback = true,
+                                                         .timestamps = false});
+      if (!line) {
         std::fprintf(stderr, "navbench: CAN interface '%s' of the log: %s\n", names[i].c_str(),
-                     sock.error().detail.c_str());
+                     line.error().detail.c_str());
         return kExitBench;
       }
-      Line l;
-      l.name = names[i];
-      l.can.emplace(std::move(*sock));
-      ports.push_back(std::move(l));
+      ports.push_back(Port{names[i], std::move(*line)});
       continue;
     }
-    auto l = open_line(names[i], maps[i]);
+    auto l = open_port(names[i], maps[i]);
     if (!l) {
       std::fprintf(stderr, "navbench: port '%s': %s\n", names[i].c_str(), l.error().detail.c_str());
       return kExitBench;
     }
     ports.push_back(std::move(*l));
   }
-  std::optional<Line> output;
+  std::optional<Port> output;
   if (with_dut) {
-    auto l = open_line("output", output_map);
+    auto l = open_port("output", output_map);
     if (!l) {
       std::fprintf(stderr, "navbench: port 'output': %s\n", l.error().detail.c_str());
       return kExitBench;
@@ -367,9 +350,9 @@ int replay_capture(const ReplayOptions& o) {
         std::find(names.begin(), names.end(), lines[k].port) - names.begin());
   }
   for (const auto& p : ports) {
-    if (p.pty) std::printf("%s: %s\n", p.name.c_str(), p.path().c_str());
+    if (p.line.is_pty()) std::printf("%s: %s\n", p.name.c_str(), p.line.path().c_str());
   }
-  if (output && output->pty) std::printf("output: %s\n", output->path().c_str());
+  if (output && output->line.is_pty()) std::printf("output: %s\n", output->line.path().c_str());
   std::fflush(stdout);
 
   struct sigaction sa {};
@@ -394,10 +377,10 @@ int replay_capture(const ReplayOptions& o) {
     }
     for (std::string a : o.dut_argv) {
       for (std::size_t d = 0; d <= ports.size(); ++d) {
-        const bool can_port = d < ports.size() && ports[d].can.has_value();
+        const bool can_port = d < ports.size() && ports[d].line.can() != nullptr;
         const std::string key = std::string(can_port ? "{can:" : "{port:") +
                                 (d < ports.size() ? ports[d].name : "output") + "}";
-        const std::string path = d < ports.size() ? ports[d].path() : output->path();
+        const std::string path = d < ports.size() ? ports[d].line.path() : output->line.path();
         for (auto pos = a.find(key); pos != std::string::npos; pos = a.find(key, pos + path.size())) {
           a.replace(pos, key.size(), path);
         }
@@ -410,7 +393,7 @@ int replay_capture(const ReplayOptions& o) {
       return kExitBench;
     }
     dut = std::make_unique<DutProcess>(std::move(*d));
-    reader = std::make_unique<OutputReader>(output->fd(), rx.get(), start);
+    reader = std::make_unique<OutputReader>(output->line.fd(), rx.get(), start);
     reader->start();
   }
   std::string dut_early;  // how the DUT ended, when it did before the end
@@ -447,16 +430,16 @@ int replay_capture(const ReplayOptions& o) {
     }
     sleep_until(deadline, g_interrupted);
     if (g_interrupted) break;
-    Line& p = ports[port_of[k]];
+    Port& p = ports[port_of[k]];
     const Timestamp actual = monotonic_now();
-    if (p.can) {
+    if (p.line.can()) {
       send_frame(p, frames[k]);
       ++p.lines;
       ++played;
       lateness.push_back(to_seconds(actual - deadline));
       continue;
     }
-    const ssize_t n = l.bytes.empty() ? 0 : ::write(p.fd(), l.bytes.data(), l.bytes.size());
+    const ssize_t n = l.bytes.empty() ? 0 : ::write(p.line.fd(), l.bytes.data(), l.bytes.size());
     // A serial line never blocks: bytes the reader does not take are lost.
     const std::size_t written = n > 0 ? static_cast<std::size_t>(n) : 0;
     p.bytes += written;
@@ -502,7 +485,7 @@ int replay_capture(const ReplayOptions& o) {
     std::string ifs;
     for (const auto& p : ports) {
       ifs += (ifs.empty() ? "" : ", ") + p.name +
-             (p.name == p.can->ifname() ? "" : "->" + p.can->ifname());
+             (p.name == p.line.path() ? "" : "->" + p.line.path());
     }
     s = "navbench replay: " + std::to_string(ports.size()) + " CAN interfaces (" + ifs + "), " +
         std::to_string(played - dropped) + " frames";

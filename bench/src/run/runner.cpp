@@ -28,9 +28,9 @@
 #include "nav/bench/dut_process.hpp"
 #include "nav/bench/judge.hpp"
 #include "nav/bench/output_reader.hpp"
-#include "nav/bench/pty.hpp"
 #include "nav/bench/realtime.hpp"
 #include "nav/bench/wire_schedule.hpp"
+#include "lines/bench_line.hpp"
 #include "run/device_tally.hpp"
 #include "nav/emulators/acoustic_modem.hpp"
 #include "nav/emulators/dvl_emulator.hpp"
@@ -48,7 +48,6 @@
 #include "nav/common/version.hpp"
 #include "run/host_identity.hpp"
 #include "nav/transport/can_socket.hpp"
-#include "nav/transport/serial_port.hpp"
 
 namespace nav::bench {
 namespace {
@@ -95,37 +94,6 @@ FilePtr open_file(const fs::path& p) {
   return f;
 }
 
-/// The bench's end of one serial line: a pty (the DUT opens its slave path) or a real port
-/// (a cable to the DUT's own port). A device on the CAN bus has neither (can_iface set).
-struct Line {
-  std::optional<Pty> pty;
-  std::optional<transport::SerialPort> serial;
-  std::string can_iface;
-  int fd() const { return pty ? pty->master() : serial ? serial->fd() : -1; }
-  /// The path that "{port:NAME}" stands for (a CAN device: its interface).
-  std::string path() const {
-    return pty ? pty->slave_path() : serial ? serial->path() : can_iface;
-  }
-  /// Lockstep ordering across lines (see Pty::flush_to_slave); a real line needs none.
-  void flush() const {
-    if (pty) pty->flush_to_slave();
-  }
-};
-
-Result<Line> open_line(const std::string& port, int baud) {
-  Line l;
-  if (port == "pty") {
-    auto p = Pty::open();
-    if (!p) return tl::unexpected(p.error());
-    l.pty.emplace(std::move(*p));
-  } else {
-    auto s = transport::SerialPort::open(port, baud);
-    if (!s) return tl::unexpected(s.error());
-    l.serial.emplace(std::move(*s));
-  }
-  return l;
-}
-
 /// Every device of every vehicle, in run order: the primary vehicle's as in the file, then
 /// each peer's, named "<peer vehicle>.<device>" (captures, reports, seeds).
 struct RunDevice {
@@ -149,16 +117,14 @@ std::vector<RunDevice> run_devices(const Scenario& sc) {
 
 /// One line per device of every vehicle (run_devices() order), then each vehicle's DUT output
 /// line (primary first); an error names the device.
-Result<std::vector<Line>> open_lines(const Scenario& sc) {
-  std::vector<Line> lines;
+Result<std::vector<BenchLine>> open_lines(const Scenario& sc) {
+  std::vector<BenchLine> lines;
   for (const auto& d : run_devices(sc)) {
     if (d.spec.on_can()) {
-      Line l;
-      l.can_iface = sc.can ? sc.can->interface : std::string();
-      lines.push_back(std::move(l));
+      lines.push_back(BenchLine::on_bus(sc.can ? sc.can->interface : std::string()));
       continue;
     }
-    auto l = open_line(d.spec.port, d.spec.baud);
+    auto l = BenchLine::open_serial(d.spec.port, d.spec.baud);
     if (!l) {
       return fail(l.error().code,
                   l.error().detail + " (device '" + d.spec.name + "')");
@@ -167,7 +133,7 @@ Result<std::vector<Line>> open_lines(const Scenario& sc) {
   }
   for (std::size_t v = 0; v <= sc.peers.size(); ++v) {
     const DutSpec& dut = v == 0 ? sc.dut : sc.peers[v - 1].dut;
-    auto l = open_line(dut.output_port, dut.output_baud);
+    auto l = BenchLine::open_serial(dut.output_port, dut.output_baud);
     if (!l) {
       return fail(l.error().code,
                   l.error().detail + " (" +
@@ -193,7 +159,7 @@ struct CanTxFrame {
 
 class Run {
  public:
-  Run(Scenario sc, std::vector<emulators::TruthTrajectory> truths, std::vector<Line> lines,
+  Run(Scenario sc, std::vector<emulators::TruthTrajectory> truths, std::vector<BenchLine> lines,
       std::optional<transport::CanSocket> can, fs::path dir, bool quiet)
       : sc_(std::move(sc)),
         truths_(std::move(truths)),
@@ -308,7 +274,7 @@ class Run {
   std::vector<emulators::TruthTrajectory> truths_;  ///< per vehicle
   fs::path dir_;
   bool quiet_;
-  std::vector<Line> lines_;  // one per device (devs_), then each vehicle's DUT output
+  std::vector<BenchLine> lines_;  // one per device (devs_), then each vehicle's DUT output
   std::vector<DeviceSpec> devs_;  ///< every device of every vehicle (names qualified)
   std::vector<std::string> local_names_;  ///< per device: its name in its vehicle
   std::vector<std::uint32_t> dev_vehicle_;  ///< per device: index into vehicles_

@@ -7,7 +7,7 @@
 
 #include "nav/common/result.hpp"
 
-namespace nav::bench {
+namespace nav::transport {
 
 class Pty {
  public:
@@ -36,4 +36,4 @@ class Pty {
   std::string slave_path_;
 };
 
-}  // namespace nav::bench
+}  // namespace nav::transport

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "nav/bench/pty.hpp"
+#include "nav/transport/pty.hpp"
 
 #include <fcntl.h>
 #include <poll.h>
@@ -11,7 +11,7 @@
 #include <climits>
 #include <utility>
 
-namespace nav::bench {
+namespace nav::transport {
 
 Result<Pty> Pty::open() {
   Pty p;
@@ -60,4 +60,4 @@ void Pty::flush_to_slave() const {
   (void)::poll(&p, 1, 0);
 }
 
-}  // namespace nav::bench
+}  // namespace nav::transport
