@@ -1,0 +1,74 @@
+// SPDX-License-Identifier: MIT
+#include "run/can_sender.hpp"
+
+#include <poll.h>
+
+#include <algorithm>
+#include <string>
+
+#include "nav/protocols/candump_log.hpp"
+
+namespace nav::bench::detail {
+
+CanSender::CanSender(const Scenario& sc, std::vector<CanTxFrame> frames,
+                     std::optional<transport::CanSocket> socket, std::size_t devices, RunLog& log)
+    : sc_(sc), frames_(std::move(frames)), socket_(std::move(socket)), log_(log) {
+  sent_.assign(devices, 0);
+  bytes_.assign(devices, 0);
+  dropped_.assign(devices, 0);
+}
+
+bool CanSender::send_due(Duration t, const std::function<void(Timestamp)>& wait,
+                         Duration queue_wait, const std::atomic<bool>& stop) {
+  while (next_ < frames_.size() && frames_[next_].due <= t) {
+    if (stop) return false;
+    const CanTxFrame& tx = frames_[next_];
+    if (sc_.mode == TimeMode::kRealtime) wait(t0_ + tx.due);
+    send(tx, queue_wait);
+    ++next_;
+  }
+  return true;
+}
+
+void CanSender::send(const CanTxFrame& tx, Duration queue_wait) {
+  transport::CanFrame f;
+  f.id = tx.f.frame.id;
+  f.extended = tx.f.frame.extended;
+  f.rtr = tx.f.frame.rtr;
+  f.dlc = static_cast<std::uint8_t>(tx.f.frame.length());
+  std::copy(tx.f.frame.data.begin(), tx.f.frame.data.end(), f.data.begin());
+  const Timestamp start = monotonic_now();
+  auto r = socket_->send(f);
+  if (!r && r.error().code == ErrorCode::kTimeout && sc_.mode == TimeMode::kLockstep) {
+    // Lockstep: wait for room in the transmit queue, as long as the watchdog allows.
+    const Timestamp give_up = monotonic_now() + queue_wait;
+    while (!r && r.error().code == ErrorCode::kTimeout && monotonic_now() < give_up) {
+      pollfd p{socket_->fd(), POLLOUT, 0};
+      ::poll(&p, 1, 10);
+      r = socket_->send(f);
+    }
+  }
+  const std::uint32_t d = tx.device;
+  if (!r) {
+    ++dropped_[d];
+    log_.tally.add(d, tx.due, 0, 0, f.dlc);
+    return;
+  }
+  ++sent_[d];
+  bytes_[d] += f.dlc;
+  log_.tally.add(d, tx.due, 1, f.dlc, 0);
+  // Realtime stamps the capture when the frame was written; lockstep with its due time.
+  const bool realtime = sc_.mode == TimeMode::kRealtime;
+  const Duration stamp = realtime ? start - t0_ : tx.due;
+  if (realtime) log_.can_lateness.push_back(to_seconds(stamp - tx.due));
+  protocols::candump::Record rec;
+  const auto ns = std::max<std::int64_t>(0, stamp.count());
+  rec.time = protocols::candump::Timestamp{static_cast<std::uint64_t>(ns / 1000000000),
+                                           static_cast<std::uint32_t>(ns % 1000000000), 6, 10};
+  rec.interface = sc_.can->interface;
+  rec.frame = tx.f.frame;
+  const std::string line = protocols::candump::format_line(rec) + "\n";
+  std::fputs(line.c_str(), log_.can.get());
+}
+
+}  // namespace nav::bench::detail

@@ -1,0 +1,49 @@
+// SPDX-License-Identifier: MIT
+// The run's CAN bus: every device's frames, in bus order, written to the one socket at their
+// due times (realtime) or before the serial message they precede (lockstep), each captured in
+// capture-can.log. Private to nav_bench.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <vector>
+
+#include "nav/bench/scenario.hpp"
+#include "nav/transport/can_socket.hpp"
+#include "run/device_streams.hpp"
+#include "run/run_log.hpp"
+
+namespace nav::bench::detail {
+
+class CanSender {
+ public:
+  /// frames: DeviceStreams::can (bus order); socket: the bus (none without vehicle.can).
+  CanSender(const Scenario& sc, std::vector<CanTxFrame> frames,
+            std::optional<transport::CanSocket> socket, std::size_t devices, RunLog& log);
+
+  void set_t0(Timestamp t0) { t0_ = t0; }
+  /// Sends every frame due at or before scenario time t. Realtime first waits for each
+  /// frame's due time with wait(t0 + due); lockstep waits for room in a full transmit queue up
+  /// to queue_wait. Returns false when stop was set.
+  bool send_due(Duration t, const std::function<void(Timestamp)>& wait, Duration queue_wait,
+                const std::atomic<bool>& stop);
+
+  const std::vector<CanTxFrame>& frames() const { return frames_; }
+  std::size_t frames_sent(std::uint32_t d) const { return sent_[d]; }
+  std::size_t bytes_sent(std::uint32_t d) const { return bytes_[d]; }
+  std::size_t frames_dropped(std::uint32_t d) const { return dropped_[d]; }
+
+ private:
+  void send(const CanTxFrame& tx, Duration queue_wait);
+
+  const Scenario& sc_;
+  std::vector<CanTxFrame> frames_;
+  std::optional<transport::CanSocket> socket_;
+  RunLog& log_;
+  Timestamp t0_{};
+  std::size_t next_ = 0;
+  std::vector<std::size_t> sent_, bytes_, dropped_;  ///< per device
+};
+
+}  // namespace nav::bench::detail

@@ -1,0 +1,69 @@
+// SPDX-License-Identifier: MIT
+// The first step of a run, pure (no I/O, no clock): every device of every vehicle, and what
+// each will put on the wire, from its vehicle's truth. Private to nav_bench.
+//
+//   Scenario + truths --run_devices()--> devices (primary's, then each peer's "<peer>.<name>")
+//                     --generate_device_streams()--> serial messages after stream faults,
+//                                                    CAN frames in bus order, fault records
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "nav/bench/can_schedule.hpp"
+#include "nav/bench/scenario.hpp"
+#include "nav/emulators/device.hpp"
+#include "nav/emulators/faults.hpp"
+#include "nav/emulators/nmea2000_emulator.hpp"
+#include "nav/emulators/truth.hpp"
+
+namespace nav::bench::detail {
+
+/// One device of one vehicle of the run.
+struct RunDevice {
+  DeviceSpec spec;           ///< spec.name qualified for a peer's device ("<peer>.<name>")
+  std::string local_name;    ///< the name in its vehicle ("{port:NAME}")
+  std::uint32_t vehicle = 0; ///< 0 = primary, 1 + i = peers[i]
+};
+
+/// Every device of every vehicle, in run order: the primary's as in the file, then each
+/// peer's (captures, reports and seeds use this order and these names).
+std::vector<RunDevice> run_devices(const Scenario& sc);
+
+/// One CAN frame of the run: its device, the frame, its place on the bus and when the bench
+/// writes it to the interface (the slot end less the 3-bit interframe space: the frame's last
+/// bit, the end of EOF, has left; that is when a receiving controller delivers it).
+struct CanTxFrame {
+  std::uint32_t device = 0;
+  emulators::CanWireFrame f;
+  CanFrameSlot slot;
+  Duration due{};
+};
+
+struct DeviceStreams {
+  /// Per device: its serial messages after its stream faults. Empty for a polled device (its
+  /// answers are made as requests arrive), a modem (it carries what the channel delivers)
+  /// and a CAN device.
+  std::vector<std::vector<emulators::WireMessage>> serial;
+  /// Per device: what its stream faults did (a polled device's faults act on its answers and
+  /// are recorded by its emulator).
+  std::vector<std::vector<emulators::FaultRecord>> stream_faults;
+  /// Every CAN frame of every device, in bus order.
+  std::vector<CanTxFrame> can;
+  /// The bus slots in the order the frames were requested (for the bus load).
+  std::vector<CanFrameSlot> can_slots;
+  /// Per device: its CAN frames' times of validity (t_valid) and readiness (t_send), in
+  /// request order, for its measurement-fault records.
+  std::vector<std::vector<emulators::WireMessage>> can_times;
+};
+
+/// Every device's stream over [0, duration) from its vehicle's truth, each device's random
+/// engines seeded from the scenario seed and its (qualified) name.
+DeviceStreams generate_device_streams(const Scenario& sc, const std::vector<RunDevice>& devices,
+                                      const std::vector<emulators::TruthTrajectory>& truths);
+
+/// The measurement faults of a device, in its type's config.
+const std::vector<emulators::MeasurementFault>& measurement_faults(const DeviceSpec& dev);
+
+}  // namespace nav::bench::detail

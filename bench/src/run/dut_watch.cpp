@@ -1,0 +1,163 @@
+// SPDX-License-Identifier: MIT
+#include "run/dut_watch.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <stdexcept>
+#include <thread>
+
+namespace nav::bench::detail {
+
+DutWatch::DutWatch(const Scenario& sc, const std::vector<RunDevice>& devices,
+                   const std::vector<emulators::TruthTrajectory>& truths,
+                   const std::atomic<bool>& stop)
+    : sc_(sc), devices_(devices), stop_(stop) {
+  for (std::uint32_t v = 0; v <= sc.peers.size(); ++v) {
+    Vehicle veh;
+    veh.name = v == 0 ? sc.vehicle_name : sc.peers[v - 1].vehicle_name;
+    veh.truth = &truths[v];
+    veh.dut = v == 0 ? &sc.dut : &sc.peers[v - 1].dut;
+    veh.output_line = static_cast<std::uint32_t>(devices.size() + v);
+    vehicles_.push_back(std::move(veh));
+  }
+  for (std::uint32_t d = 0; d < devices.size(); ++d) {
+    Vehicle& veh = vehicles_[devices[d].vehicle];
+    if (devices[d].local_name == veh.dut->trigger) veh.trigger_device = d;
+  }
+}
+
+std::vector<std::string> DutWatch::argv_of(std::uint32_t v,
+                                           const std::vector<BenchLine>& lines) const {
+  const Vehicle& veh = vehicles_[v];
+  std::vector<std::string> argv;
+  for (std::string a : veh.dut->command) {
+    for (std::size_t d = 0; d <= devices_.size(); ++d) {
+      if (d < devices_.size() && devices_[d].vehicle != v) continue;
+      const bool output = d == devices_.size();
+      const std::string key =
+          "{port:" + (output ? std::string("output") : devices_[d].local_name) + "}";
+      const std::string path = lines[output ? veh.output_line : d].path();
+      for (auto pos = a.find(key); pos != std::string::npos; pos = a.find(key)) {
+        a.replace(pos, key.size(), path);
+      }
+    }
+    argv.push_back(a);
+  }
+  return argv;
+}
+
+void DutWatch::start(const std::vector<BenchLine>& lines, const std::filesystem::path& dir,
+                     Timestamp t0, RunLog& log) {
+  t0_ = t0;
+  for (std::uint32_t v = 0; v < vehicles_.size(); ++v) {
+    Vehicle& veh = vehicles_[v];
+    veh.argv = argv_of(v, lines);
+    // The primary's DUT log and output capture keep their single-vehicle names.
+    const std::string log_name = v == 0 ? "dut.log" : "dut-" + veh.name + ".log";
+    auto dut = DutProcess::start(veh.argv, (dir / log_name).string());
+    if (!dut) {
+      throw std::runtime_error(v == 0 ? dut.error().detail
+                                      : "peer '" + veh.name + "': " + dut.error().detail);
+    }
+    veh.proc = std::make_unique<DutProcess>(std::move(*dut));
+    if (v > 0) veh.output_capture = open_file(dir / ("capture-rx-" + veh.name + ".log"));
+    veh.reader = std::make_unique<OutputReader>(
+        lines[veh.output_line].fd(), v == 0 ? log.rx.get() : veh.output_capture.get(), t0);
+    veh.reader->start();
+  }
+}
+
+bool DutWatch::ok(Timestamp now) {
+  if (crashed_ || hung_) return false;
+  for (auto& veh : vehicles_) {
+    if (!vehicle_ok(veh, now)) return false;
+  }
+  return true;
+}
+
+bool DutWatch::vehicle_ok(Vehicle& veh, Timestamp now) {
+  if (!veh.proc->running()) {
+    crashed_ = true;
+    veh.failed = true;
+    char t[64];
+    std::snprintf(t, sizeof t, " at t=%.3f s", to_seconds(now - t0_));
+    veh.status = "crashed: " + veh.proc->exit_description() + t;
+    return false;
+  }
+  // Hung: a trigger sent after the DUT's latest solution has waited longer than the
+  // watchdog. A trigger the DUT rightly drops (it arrived damaged) is followed by solutions
+  // to later triggers, so it does not count.
+  const Timestamp last_answer = veh.reader->last_answer_time();
+  const auto waiting =
+      std::partition_point(veh.sent_wire_ends.begin(), veh.sent_wire_ends.end(),
+                           [&](Timestamp w) { return w <= last_answer; });
+  if (waiting != veh.sent_wire_ends.end() && now - *waiting > veh.dut->watchdog) {
+    char t[128];
+    std::snprintf(t, sizeof t, "hung: no solution for %.1f s at t=%.3f s",
+                  to_seconds(now - std::max(*waiting, last_answer)), to_seconds(now - t0_));
+    set_hung(veh, t);
+    return false;
+  }
+  return true;
+}
+
+void DutWatch::set_hung(Vehicle& v, std::string status) {
+  hung_ = true;
+  v.failed = true;
+  v.status = std::move(status);
+}
+
+void DutWatch::drain() {
+  // Not "as many answers as triggers": a DUT that answers repeated packets too reaches that
+  // count before its last answer.
+  using namespace std::chrono_literals;
+  const Timestamp end = monotonic_now() + max_watchdog();
+  while (!stop_ && ok(monotonic_now())) {
+    const Timestamp now = monotonic_now();
+    const bool done = std::all_of(vehicles_.begin(), vehicles_.end(), [&](const Vehicle& v) {
+      return v.triggers_sent == 0 || v.reader->wait_for(v.last_trigger_tag, now);
+    });
+    if (done || now >= end) return;
+    std::this_thread::sleep_for(5ms);
+  }
+}
+
+Duration DutWatch::max_watchdog() const {
+  Duration w{0};
+  for (const auto& v : vehicles_) w = std::max(w, v.dut->watchdog);
+  return w;
+}
+
+void DutWatch::finish(const std::vector<std::size_t>& suppressed) {
+  for (auto& veh : vehicles_) {
+    const bool alive = !crashed_ && !hung_ && veh.proc->running();
+    if (alive) veh.status = "alive until the end (pid " + std::to_string(veh.proc->pid()) + ")";
+    const bool gx3 = devices_[veh.trigger_device].spec.type == DeviceSpec::Type::kMicrostrainGx3;
+    if (alive && veh.triggers_sent == 0 && !veh.triggers.empty() && gx3 &&
+        suppressed[veh.trigger_device] > 0) {
+      veh.status += "; no solutions: it never sent the start command (C4 C1 29 CB) on '" +
+                    veh.dut->trigger + "', " +
+                    std::to_string(suppressed[veh.trigger_device]) + " packets not sent";
+    }
+  }
+  Vehicle& primary = vehicles_.front();
+  primary_alive_ = !crashed_ && !hung_ && primary.proc->running();
+  if (primary.status.empty() && !primary.failed && primary.proc->running()) {
+    primary.status = "alive (pid " + std::to_string(primary.proc->pid()) + ")";
+  }
+  for (auto& veh : vehicles_) veh.proc->stop();
+  for (auto& veh : vehicles_) veh.reader->stop();
+}
+
+std::string DutWatch::primary_status() const {
+  std::string status = vehicles_.front().status;
+  for (std::size_t v = 1; v < vehicles_.size(); ++v) {
+    if (vehicles_[v].failed) status += "; peer '" + vehicles_[v].name + "' " + vehicles_[v].status;
+  }
+  return status;
+}
+
+bool DutWatch::primary_alive() const { return primary_alive_; }
+
+}  // namespace nav::bench::detail

@@ -1,0 +1,106 @@
+// SPDX-License-Identifier: MIT
+// The vehicles of a run and their DUTs: each DUT started as a child process on its lines, its
+// output read on its own thread, watched for a crash or a hang, drained at the end and
+// stopped. Private to nav_bench.
+//
+//   start(): argv with {port:NAME} -> the lines' paths; dut.log / dut-<peer>.log; readers
+//   ok(now): crashed (exited) or hung (a trigger unanswered for longer than the watchdog)
+//   drain(): after the last message, until each DUT answered its last trigger
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "lines/bench_line.hpp"
+#include "nav/bench/dut_process.hpp"
+#include "nav/bench/judge.hpp"
+#include "nav/bench/output_reader.hpp"
+#include "nav/bench/scenario.hpp"
+#include "run/device_streams.hpp"
+#include "run/run_log.hpp"
+
+namespace nav::bench::detail {
+
+/// One vehicle: the primary (index 0) or a peer (1 + its index in the scenario's peers).
+struct Vehicle {
+  std::string name;
+  const emulators::TruthTrajectory* truth = nullptr;
+  const DutSpec* dut = nullptr;
+  std::uint32_t output_line = 0;     ///< index into the run's lines
+  std::uint32_t trigger_device = 0;  ///< index into the run's devices
+  std::vector<std::string> argv;     ///< as started
+  std::unique_ptr<DutProcess> proc;
+  std::unique_ptr<OutputReader> reader;
+  FilePtr output_capture;            ///< peers: capture-rx-<name>.log
+  std::vector<TriggerRecord> triggers;  ///< every trigger of the schedule, in order
+  std::size_t triggers_sent = 0;
+  std::vector<Timestamp> sent_wire_ends;  ///< of the triggers sent, in send order
+  std::uint64_t last_trigger_tag = 0;
+  /// Lockstep: answers naming each trigger tag the DUT may give so far (1 per trigger, one
+  /// more per copy a `stuck` fault sent).
+  std::unordered_map<std::uint64_t, std::size_t> answers_expected;
+  bool failed = false;  ///< crashed or hung
+  std::string status;
+
+  void note_trigger_sent(const TriggerRecord& tr) {
+    ++triggers_sent;
+    sent_wire_ends.push_back(tr.wire_end);
+    last_trigger_tag = tr.tag;
+  }
+};
+
+class DutWatch {
+ public:
+  /// stop: set by SIGINT/SIGTERM; every wait ends when it is.
+  DutWatch(const Scenario& sc, const std::vector<RunDevice>& devices,
+           const std::vector<emulators::TruthTrajectory>& truths, const std::atomic<bool>& stop);
+
+  std::vector<Vehicle>& vehicles() { return vehicles_; }
+  const std::vector<Vehicle>& vehicles() const { return vehicles_; }
+  Vehicle& vehicle_of(std::uint32_t device) { return vehicles_[devices_[device].vehicle]; }
+  std::uint32_t vehicle_index(std::uint32_t device) const { return devices_[device].vehicle; }
+
+  /// Starts every vehicle's DUT with its {port:NAME} replaced by the lines' paths, its
+  /// stdout and stderr to dir/dut.log (a peer's: dut-<name>.log), and a reader of its output
+  /// line capturing to the primary's capture-rx.log (a peer's: capture-rx-<name>.log), times
+  /// from t0. Throws (naming a peer) when a DUT cannot be started.
+  void start(const std::vector<BenchLine>& lines, const std::filesystem::path& dir, Timestamp t0,
+             RunLog& log);
+
+  /// Watches every DUT; false once one crashed or hung (its vehicle's status says how).
+  bool ok(Timestamp now);
+  bool crashed() const { return crashed_; }
+  bool hung() const { return hung_; }
+  /// Records that a vehicle's DUT hung for a reason only the player sees.
+  void set_hung(Vehicle& v, std::string status);
+
+  /// After the last message: waits until each DUT answered its last trigger, at most one
+  /// watchdog period; the rest count as unanswered.
+  void drain();
+  /// The longest watchdog of any vehicle.
+  Duration max_watchdog() const;
+  /// Sets the final status of the DUTs still alive, then stops every DUT and reader.
+  void finish(const std::vector<std::size_t>& suppressed);
+  /// The primary's DUT status, with any peer that failed.
+  std::string primary_status() const;
+  bool primary_alive() const;
+
+ private:
+  bool vehicle_ok(Vehicle& veh, Timestamp now);
+  std::vector<std::string> argv_of(std::uint32_t v, const std::vector<BenchLine>& lines) const;
+
+  const Scenario& sc_;
+  const std::vector<RunDevice>& devices_;
+  const std::atomic<bool>& stop_;
+  std::vector<Vehicle> vehicles_;
+  Timestamp t0_{};
+  bool crashed_ = false, hung_ = false;
+  bool primary_alive_ = false;  ///< set by finish()
+};
+
+}  // namespace nav::bench::detail

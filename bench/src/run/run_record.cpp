@@ -1,0 +1,169 @@
+// SPDX-License-Identifier: MIT
+#include "run/run_record.hpp"
+
+#include <algorithm>
+#include <optional>
+
+#include "nav/bench/judge.hpp"
+#include "nav/bench/runner.hpp"
+
+namespace nav::bench::detail {
+namespace {
+
+reports::DeviceRow device_row(const RunFacts& f, std::uint32_t d) {
+  const auto& dev = f.devices[d].spec;
+  const auto& total = f.log.tally.total(d);
+  reports::DeviceRow row{dev.name, device_type_name(dev.type), f.lines[d].path(), dev.baud,
+                         emulators::device_seed(f.sc.seed, dev.name), total.messages,
+                         total.bytes, total.bytes_dropped, f.suppressed[d]};
+  if (dev.on_can()) {
+    row.port = f.sc.can->interface;
+    row.baud = static_cast<int>(f.sc.can->bitrate_bps);
+    row.messages = f.can.frames_sent(d);
+    row.bytes = f.can.bytes_sent(d);
+    row.suppressed = 0;
+    row.can = true;
+    row.frames_dropped = f.can.frames_dropped(d);
+  }
+  row.per_second = f.log.tally.per_second(d);
+  return row;
+}
+
+reports::CanBusRow can_bus_row(const RunFacts& f) {
+  reports::CanBusRow bus;
+  bus.interface = f.sc.can->interface;
+  bus.bitrate_bps = f.sc.can->bitrate_bps;
+  std::vector<double> queueing;
+  for (const auto& tx : f.can.frames()) {
+    bus.frame_bits += tx.slot.bits;
+    queueing.push_back(to_seconds(tx.slot.start - tx.f.t_ready));
+  }
+  for (std::uint32_t d = 0; d < f.devices.size(); ++d) {
+    bus.frames_sent += f.can.frames_sent(d);
+    bus.frames_dropped += f.can.frames_dropped(d);
+  }
+  bus.bus_load = can_bus_load(f.streams.can_slots, f.sc.duration);
+  bus.queueing_delay = reports::summarize(std::move(queueing));
+  bus.write_lateness = reports::summarize(f.log.can_lateness);
+  return bus;
+}
+
+void add_faults(const RunFacts& f, reports::RunRecord& rec) {
+  for (std::uint32_t d = 0; d < f.devices.size(); ++d) {
+    const auto& dev = f.devices[d].spec;
+    const bool polled = f.reactive.polled(d);
+    auto records = polled ? f.reactive.polled_fault_records(d) : f.streams.stream_faults[d];
+    // Measurement faults affect the messages whose time of validity is in their window.
+    const auto& sent = polled         ? f.reactive.answered(d)
+                       : dev.on_can() ? f.streams.can_times[d]
+                                      : f.streams.serial[d];
+    for (const auto& m : measurement_faults(dev)) {
+      records.push_back(emulators::measurement_fault_record(m, sent));
+    }
+    for (const auto& r : records) {
+      rec.faults.push_back({dev.name, r.kind, r.start_s, r.end_s, r.messages_affected});
+    }
+  }
+}
+
+}  // namespace
+
+reports::RunRecord make_run_record(const RunFacts& f, const RunIdentity& id) {
+  const Scenario& sc = f.sc;
+  const auto& vehicles = f.watch.vehicles();
+  const Vehicle& primary = vehicles.front();
+  const std::string dut_status = f.watch.primary_status();
+  const TruthTable table(*primary.truth, sc.duration, sc.truth_rate_hz);
+  JudgeInput in{&sc, &table, primary.triggers, primary.reader->answers(), f.t0,
+                f.watch.primary_alive(), dut_status};
+  JudgeOutput j = judge(in);
+
+  reports::RunRecord rec;
+  rec.started_utc = id.started_utc;
+  rec.scenario_name = sc.name;
+  rec.scenario_file = sc.file;
+  rec.scenario_description = sc.description;
+  rec.scenario_sha256 = id.scenario_sha256;
+  rec.navbench_version = id.navbench_version;
+  rec.host = id.host;
+  rec.kernel = id.kernel;
+  rec.labels.assign(sc.labels.begin(), sc.labels.end());
+  rec.mode = sc.mode == TimeMode::kRealtime ? "realtime" : "lockstep";
+  rec.seed = sc.seed;
+  rec.duration_s = to_seconds(sc.duration);
+  rec.dut_command = primary.argv;
+  if (!id.dut_executables.empty()) std::tie(rec.dut_executable, rec.dut_sha256) = id.dut_executables[0];
+  rec.dut_status = dut_status;
+  rec.triggers_sent = primary.triggers_sent;
+  rec.answers = in.answers.size();
+  rec.unmatched_answers = j.unmatched_answers;
+  rec.malformed_output = primary.reader->malformed();
+  rec.checks = std::move(j.checks);
+  for (std::size_t v = 0; v < vehicles.size(); ++v) {
+    const Vehicle& veh = vehicles[v];
+    reports::VehicleTrack track;
+    track.name = veh.name;
+    std::optional<TruthTable> own;
+    if (v > 0) own.emplace(*veh.truth, sc.duration, sc.truth_rate_hz);
+    const TruthTable& truth = v == 0 ? table : *own;
+    for (const auto& s : truth.samples()) {
+      track.truth.push_back({to_seconds(s.t), s.p_n, s.q_nb, s.distance_m});
+    }
+    track.aligned =
+        v == 0 ? std::move(j.aligned)
+               : align_answers(veh.triggers, veh.reader->answers(), truth, sc.datum).aligned;
+    track.triggers_sent = veh.triggers_sent;
+    track.answers = veh.reader->answer_count();
+    track.dut_status = v == 0 ? dut_status : veh.status;
+    rec.vehicles.push_back(std::move(track));
+  }
+  rec.latency = std::move(j.latency);
+  rec.dut_latency = j.dut_latency;
+  std::vector<double> late;
+  for (const auto& l : f.log.lateness) late.push_back(l.actual_s - l.scheduled_s);
+  rec.bench_lateness = reports::summarize(late);
+  rec.lateness = std::move(f.log.lateness);
+  rec.lateness_budget_p99_s = to_seconds(sc.lateness_budget_p99);
+  for (std::uint32_t d = 0; d < f.devices.size(); ++d) rec.devices.push_back(device_row(f, d));
+  if (sc.can) rec.can_buses.push_back(can_bus_row(f));
+  add_faults(f, rec);
+  for (std::size_t v = 1; v < vehicles.size(); ++v) {
+    const auto& veh = vehicles[v];
+    reports::PeerRow peer;
+    peer.name = veh.name;
+    peer.dut_command = veh.argv;
+    if (v < id.dut_executables.size()) {
+      std::tie(peer.dut_executable, peer.dut_sha256) = id.dut_executables[v];
+    }
+    peer.dut_status = veh.status;
+    peer.triggers_sent = veh.triggers_sent;
+    peer.answers = veh.reader->answer_count();
+    rec.peers.push_back(std::move(peer));
+  }
+  for (const auto& l : f.reactive.links()) {
+    const auto& s = l.stats;
+    rec.modem_links.push_back({f.devices[l.from].spec.name, f.devices[l.to].spec.name,
+                               s.packets_sent, s.packets_delivered, s.packets_lost,
+                               s.packets_out_of_range, s.bytes_delivered,
+                               to_seconds(s.min_propagation), to_seconds(s.max_propagation)});
+  }
+  std::tie(rec.verdict, rec.exit_code) =
+      verdict_of(rec, f.interrupted, f.watch.crashed(), f.watch.hung());
+  return rec;
+}
+
+std::pair<std::string, int> verdict_of(const reports::RunRecord& r, bool interrupted,
+                                       bool crashed, bool hung) {
+  const bool any_failed = std::any_of(r.checks.begin(), r.checks.end(),
+                                      [](const auto& c) { return c.judged && !c.passed; });
+  if (interrupted) return {"INTERRUPTED", kExitBench};
+  if (crashed) return {"DUT crashed", kExitDut};
+  if (hung) return {"DUT hung", kExitDut};
+  if (r.bench_lateness.count > 0 && r.bench_lateness.p99_s > r.lateness_budget_p99_s) {
+    return {"BENCH-LATE", kExitBench};
+  }
+  if (any_failed) return {"FAIL", kExitFail};
+  return {"PASS", kExitPass};
+}
+
+}  // namespace nav::bench::detail

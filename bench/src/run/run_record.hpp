@@ -1,0 +1,56 @@
+// SPDX-License-Identifier: MIT
+// The last step of a run: what its parts know, judged and gathered into the RunRecord the
+// report writers take, with the verdict. No I/O: the identity (hashes, host) is read by the
+// caller. Private to nav_bench.
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "lines/bench_line.hpp"
+#include "nav/reports/run_record.hpp"
+#include "run/can_sender.hpp"
+#include "run/device_streams.hpp"
+#include "run/dut_watch.hpp"
+#include "run/reactive_devices.hpp"
+#include "run/run_log.hpp"
+
+namespace nav::bench::detail {
+
+/// What a finished run's parts know.
+struct RunFacts {
+  const Scenario& sc;
+  const std::vector<RunDevice>& devices;
+  const std::vector<BenchLine>& lines;
+  const DeviceStreams& streams;
+  const DutWatch& watch;
+  const ReactiveDevices& reactive;
+  const CanSender& can;
+  RunLog& log;                               ///< its lateness rows are moved out
+  const std::vector<std::size_t>& suppressed;  ///< per device (WirePlayer)
+  Timestamp t0{};
+  bool interrupted = false;
+};
+
+/// Who and what ran: read by the caller (files, uname).
+struct RunIdentity {
+  std::string started_utc;
+  std::string scenario_sha256;
+  std::string navbench_version;
+  std::string host, kernel;
+  /// Per vehicle: the DUT program started and its SHA-256 (empty when unreadable).
+  std::vector<std::pair<std::string, std::string>> dut_executables;
+};
+
+/// Judges the primary vehicle, aligns every vehicle's solutions, and gathers devices, faults,
+/// CAN bus, peers and acoustic links; sets the verdict. wall_time_s is left to the caller.
+reports::RunRecord make_run_record(const RunFacts& f, const RunIdentity& id);
+
+/// The verdict and exit code, in this order of precedence: INTERRUPTED (3), DUT crashed (4),
+/// DUT hung (4), BENCH-LATE (3: bench lateness p99 over its budget), FAIL (1: a judged check
+/// failed), PASS (0).
+std::pair<std::string, int> verdict_of(const reports::RunRecord& r, bool interrupted,
+                                       bool crashed, bool hung);
+
+}  // namespace nav::bench::detail
