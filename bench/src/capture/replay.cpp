@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <memory>
 #include <thread>
@@ -26,29 +27,25 @@
 #include "nav/transport/can_socket.hpp"
 #include "nav/transport/serial_port.hpp"
 #include "lines/bench_line.hpp"
+#include "capture/replay_wires.hpp"
 
 namespace nav::bench {
 namespace {
 
+using detail::Port;
+using detail::ReplayWires;
+using detail::send_frame;
+
 using namespace std::chrono_literals;
 
 constexpr int kDefaultBaud = 115200;             // a mapped port without @BAUD
-constexpr Duration kCheckPeriod = 50ms;          // how often the DUT is watched while playing
+constexpr Duration kPollPeriod = 1ms;            // unused: a replay has no idle work
 constexpr Duration kDrainQuiet = 500ms;          // end of replay: no new solution for this long
 constexpr Duration kDrainMax = 3s;               // ... or at most this long
-constexpr int kCanQueueWaitMs = 20;              // a full CAN transmit queue: wait, retry once
 
 std::atomic<bool> g_interrupted{false};
 extern "C" void on_replay_signal(int) { g_interrupted = true; }
 
-
-/// One replayed line: the bench's end of it and what went through it.
-struct Port {
-  std::string name;
-  BenchLine line;
-  std::size_t bytes = 0, dropped = 0, lines = 0;
-  std::string send_error{};  // the first CAN send failure other than a full queue
-};
 
 /// Parses a candump log into capture lines (port = the log's interface, no bytes) and the
 /// frames at the same indices. Error frames cannot be sent through CanSocket: skipped,
@@ -99,24 +96,6 @@ Result<std::vector<CaptureLine>> parse_candump(const std::string& text, const st
     frames.push_back(f);
   }
   return out;
-}
-
-/// Sends one frame; a full transmit queue is waited for briefly, then the frame is dropped.
-void send_frame(Port& p, const transport::CanFrame& f) {
-  auto ok = p.line.can()->send(f);
-  if (!ok && ok.error().code == ErrorCode::kTimeout) {
-    pollfd pf{p.line.fd(), POLLOUT, 0};
-    (void)::poll(&pf, 1, kCanQueueWaitMs);
-    ok = p.line.can()->send(f);
-  }
-  if (ok) {
-    p.bytes += f.rtr ? 0 : f.dlc;
-  } else {
-    ++p.dropped;
-    if (p.send_error.empty() && ok.error().code != ErrorCode::kTimeout) {
-      p.send_error = ok.error().detail;
-    }
-  }
 }
 
 Result<Port> open_port(const std::string& name, const std::optional<PortMapping>& map) {
@@ -414,40 +393,20 @@ int replay_capture(const ReplayOptions& o) {
   const Duration base = lines.empty() ? Duration{0}
                         : is_can      ? lines.front().t
                                       : std::min(Duration{0}, lines.front().t);
-  std::vector<double> lateness;
-  lateness.reserve(lines.size());
-  std::size_t played = 0;
-  Timestamp next_check = start;
-  const Timestamp play_start = monotonic_now();
-  for (std::size_t k = 0; k < lines.size() && dut_early.empty(); ++k) {
-    if (g_interrupted) break;
-    const auto& l = lines[k];
-    const Timestamp deadline =
-        start + Duration{static_cast<std::int64_t>(static_cast<double>((l.t - base).count()) / o.speed)};
-    if (dut && deadline >= next_check) {
-      if (!dut_alive()) break;
-      next_check = deadline + kCheckPeriod;
-    }
-    sleep_until(deadline, g_interrupted);
-    if (g_interrupted) break;
-    Port& p = ports[port_of[k]];
-    const Timestamp actual = monotonic_now();
-    if (p.line.can()) {
-      send_frame(p, frames[k]);
-      ++p.lines;
-      ++played;
-      lateness.push_back(to_seconds(actual - deadline));
-      continue;
-    }
-    const ssize_t n = l.bytes.empty() ? 0 : ::write(p.line.fd(), l.bytes.data(), l.bytes.size());
-    // A serial line never blocks: bytes the reader does not take are lost.
-    const std::size_t written = n > 0 ? static_cast<std::size_t>(n) : 0;
-    p.bytes += written;
-    p.dropped += l.bytes.size() - written;
-    ++p.lines;
-    ++played;
-    lateness.push_back(to_seconds(actual - deadline));
+  detail::SystemClock clock;
+  detail::RealtimePacer pacer(clock, g_interrupted, kPollPeriod);
+  pacer.set_origin(start, base, o.speed);
+  ReplayWires wires(lines, frames, ports, port_of, pacer, dut_alive, dut != nullptr);
+  std::vector<ScheduledMessage> messages;
+  std::vector<Chunk> writes;
+  for (std::uint32_t k = 0; k < lines.size(); ++k) {
+    messages.push_back(ScheduledMessage{port_of[k], k, lines[k].t, lines[k].t});
+    writes.push_back(Chunk{lines[k].t, k, 0, static_cast<std::uint32_t>(lines[k].bytes.size())});
   }
+  const Timestamp play_start = monotonic_now();
+  detail::play_wires(messages, writes, pacer, wires, clock, g_interrupted);
+  const auto& lateness = wires.lateness();
+  const std::size_t played = wires.played();
   const double play_s = to_seconds(monotonic_now() - play_start);
 
   // --- drain and stop the DUT --------------------------------------------------------------

@@ -18,12 +18,12 @@ CanSender::CanSender(const Scenario& sc, std::vector<CanTxFrame> frames,
   dropped_.assign(devices, 0);
 }
 
-bool CanSender::send_due(Duration t, const std::function<void(Timestamp)>& wait,
+bool CanSender::send_due(Duration t, const std::function<void(Duration)>& wait,
                          Duration queue_wait, const std::atomic<bool>& stop) {
   while (next_ < frames_.size() && frames_[next_].due <= t) {
     if (stop) return false;
     const CanTxFrame& tx = frames_[next_];
-    if (sc_.mode == TimeMode::kRealtime) wait(t0_ + tx.due);
+    wait(tx.due);
     send(tx, queue_wait);
     ++next_;
   }

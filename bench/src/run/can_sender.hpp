@@ -23,10 +23,10 @@ class CanSender {
             std::optional<transport::CanSocket> socket, std::size_t devices, RunLog& log);
 
   void set_t0(Timestamp t0) { t0_ = t0; }
-  /// Sends every frame due at or before scenario time t. Realtime first waits for each
-  /// frame's due time with wait(t0 + due); lockstep waits for room in a full transmit queue up
-  /// to queue_wait. Returns false when stop was set.
-  bool send_due(Duration t, const std::function<void(Timestamp)>& wait, Duration queue_wait,
+  /// Sends every frame due at or before scenario time t, each after wait(its due time) (the
+  /// realtime pacer waits for it; lockstep does not wait). Lockstep waits for room in a full
+  /// transmit queue up to queue_wait. Returns false when stop was set.
+  bool send_due(Duration t, const std::function<void(Duration)>& wait, Duration queue_wait,
                 const std::atomic<bool>& stop);
 
   const std::vector<CanTxFrame>& frames() const { return frames_; }

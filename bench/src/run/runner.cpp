@@ -3,8 +3,9 @@
 // the data flows through them (bench/src/run/):
 //
 //   truths --device_streams--> messages and CAN frames per device (pure)
-//          --wire_player-----> the DUTs' lines, at their wire times (realtime or lockstep),
-//                              with can_sender (the bus) and reactive_devices (GX3 commands,
+//          --wire_player-----> the DUTs' lines, at their wire times, paced by a pacer
+//                              (realtime or lockstep); run_wires around each write, with
+//                              can_sender (the bus) and reactive_devices (GX3 commands,
 //                              polled answers, the acoustic channel) served while it waits
 //   dut_watch: the DUT processes, their output readers, crash and hang detection, drain
 //   run_record: judged and gathered into the RunRecord (pure); then the files and report.html
@@ -37,7 +38,8 @@
 #include "run/reactive_devices.hpp"
 #include "run/run_log.hpp"
 #include "run/run_record.hpp"
-#include "run/wire_player.hpp"
+#include "run/pacer.hpp"
+#include "run/run_wires.hpp"
 
 namespace nav::bench {
 namespace {
@@ -48,6 +50,8 @@ using namespace detail;
 
 std::atomic<bool> g_interrupted{false};
 extern "C" void on_signal(int) { g_interrupted = true; }
+
+constexpr Duration kPollPeriod = 1ms;  // realtime: how often polled lines are read
 
 /// The program argv[0] names, resolved as the DUT was started, and its SHA-256.
 std::pair<std::string, std::string> executable_identity(const std::vector<std::string>& argv) {
@@ -114,8 +118,10 @@ reports::RunRecord play_run(const Scenario& sc, const std::vector<emulators::Tru
   DutWatch watch(sc, devices, truths, g_interrupted);
   CanSender can(sc, streams.can, std::move(can_socket), devices.size(), log);
   SystemClock clock;
-  WirePlayer player({&sc, &devices, &streams, &lines, &log, &reactive, &watch, &can, &clock,
-                     &g_interrupted, quiet});
+  RunWires wires({&sc, &devices, &streams, &lines, &log, &reactive, &watch, &can,
+                  &g_interrupted, quiet});
+  RealtimePacer realtime(clock, g_interrupted, kPollPeriod);
+  LockstepPacer lockstep;
   log.tx = open_file(dir / "capture-tx.log");
   log.rx = open_file(dir / "capture-rx.log");
   if (sc.can) log.can = open_file(dir / "capture-can.log");
@@ -126,7 +132,8 @@ reports::RunRecord play_run(const Scenario& sc, const std::vector<emulators::Tru
   const Timestamp t0 = monotonic_now() + startup;
   reactive.set_t0(t0);
   can.set_t0(t0);
-  player.set_t0(t0);
+  wires.set_t0(t0);
+  realtime.set_origin(t0);
   watch.start(lines, dir, t0, log);
   try_realtime_priority(20);
   while (monotonic_now() < t0 && !g_interrupted && watch.ok(monotonic_now())) {
@@ -136,10 +143,10 @@ reports::RunRecord play_run(const Scenario& sc, const std::vector<emulators::Tru
     if (sc.mode == TimeMode::kRealtime) reactive.poll_host_lines(monotonic_now() - t0);
   }
   if (watch.ok(monotonic_now()) && !g_interrupted) {
-    player.play();
+    wires.play(sc.mode == TimeMode::kRealtime ? static_cast<Pacer&>(realtime) : lockstep, clock);
     if (watch.ok(monotonic_now()) && !g_interrupted) watch.drain();
   }
-  watch.finish(player.suppressed());
+  watch.finish(wires.suppressed());
   std::fflush(log.tx.get());
   if (log.can) std::fflush(log.can.get());
 
@@ -150,7 +157,7 @@ reports::RunRecord play_run(const Scenario& sc, const std::vector<emulators::Tru
   id.kernel = host.kernel;
   for (const auto& veh : watch.vehicles()) id.dut_executables.push_back(executable_identity(veh.argv));
   const RunFacts facts{sc,  devices, lines, streams, watch, reactive, can,
-                       log, player.suppressed(), t0, g_interrupted.load()};
+                       log, wires.suppressed(), t0, g_interrupted.load()};
   reports::RunRecord rec = make_run_record(facts, id);
   rec.wall_time_s = to_seconds(monotonic_now() - wall_start);
   return rec;

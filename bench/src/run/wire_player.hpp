@@ -1,83 +1,60 @@
 // SPDX-License-Identifier: MIT
-// Plays a run's wire schedule to the DUTs: every serial message at its wire time, the CAN
-// frames due before it, and, while it waits, the reactive devices. Private to nav_bench.
+// The one write loop of the bench, for a run in realtime or lockstep and for a replay: every
+// write of a schedule in order, each after its pacer advanced to it (pacer.hpp), what happens
+// around each write left to the owner of the lines (a PlayHost). Private to nav_bench.
 //
-//   realtime: each chunk of a message at its absolute deadline t0 + t on the clock (bytes
-//             paced at the line's baud rate), the reactive devices served every kPollPeriod
-//             while waiting; a line never blocks (bytes the DUT does not take are lost);
-//   lockstep: each whole message as soon as the previous one is done, stamped with its
-//             scheduled time; after a trigger nothing more until its DUT answered it (the
-//             barrier), after a stuck copy of one until the DUT answered that copy.
+//   for each write (a chunk of a message, or a whole message):
+//     host.go_on(t)          stop on a signal or a DUT that died; progress
+//     pacer.advance(t, host) CAN frames due, idle work (reactive devices), the deadline
+//     host.begin(k)          at a message's first byte: write it, skip it, or stop
+//     host.write(...)        the bytes; host.wrote() counts them
+//     host.done(k, ...)      the message is whole on the wire: captures, triggers, barrier
+//   pacer.finish(host)       the CAN frames due after the last write
 #pragma once
 
 #include <atomic>
 #include <cstdint>
-#include <unordered_map>
-#include <utility>
 #include <vector>
 
-#include "lines/bench_line.hpp"
 #include "nav/bench/wire_schedule.hpp"
-#include "run/can_sender.hpp"
 #include "run/clock.hpp"
-#include "run/device_streams.hpp"
-#include "run/dut_watch.hpp"
-#include "run/reactive_devices.hpp"
-#include "run/run_log.hpp"
+#include "run/pacer.hpp"
 
 namespace nav::bench::detail {
 
-/// Pacing granularity of serial bytes [ns].
-inline constexpr Duration kChunkPeriod = std::chrono::milliseconds(1);
-
-class WirePlayer {
+class PlayHost : public IdleWork {
  public:
-  struct Parts {
-    const Scenario* sc = nullptr;
-    const std::vector<RunDevice>* devices = nullptr;
-    const DeviceStreams* streams = nullptr;
-    std::vector<BenchLine>* lines = nullptr;
-    RunLog* log = nullptr;
-    ReactiveDevices* reactive = nullptr;
-    DutWatch* watch = nullptr;
-    CanSender* can = nullptr;
-    Clock* clock = nullptr;
-    const std::atomic<bool>* stop = nullptr;
-    bool quiet = false;  ///< no progress lines
-  };
-  /// Builds the wire schedule of the serial streams and the vehicles' trigger records.
-  explicit WirePlayer(Parts parts);
-
-  void set_t0(Timestamp t0) { t0_ = t0; }
-  /// Plays every serial message, then the CAN frames due after the last one.
-  void play();
-  /// Realtime: waits until deadline, serving the reactive devices meanwhile.
-  void wait_realtime(Timestamp deadline);
-  /// Per device: messages not written because the device was not streaming.
-  const std::vector<std::size_t>& suppressed() const { return suppressed_; }
-
- private:
-  void play_realtime();
-  void play_lockstep();
-  bool is_trigger(const ScheduledMessage& m) const;
-  const emulators::WireMessage& message(const ScheduledMessage& m) const {
-    return p_.streams->serial[m.device][m.index];
-  }
-  TriggerRecord& trigger_record(std::uint32_t k);
-  bool wait_for_repeat_answer(Vehicle& veh, const ScheduledMessage& m);
-  bool send_can_due(Duration t);
-  void progress(Duration scenario_t);
-
-  Parts p_;
-  WireSchedule schedule_;
-  /// Schedule message index -> (vehicle, index into its triggers).
-  std::unordered_map<std::uint32_t, std::pair<std::uint32_t, std::size_t>> trigger_of_message_;
-  std::vector<std::size_t> suppressed_;
-  Timestamp t0_{};
-  /// Lockstep: scenario time the DUT has reached, the end on the wire of the last message
-  /// written (the DUT answers at once in lockstep, so its requests are stamped with it).
-  Duration lockstep_now_{0};
-  Duration next_progress_;
+  enum class Begin { kWrite, kSkip, kStop };
+  /// Before the write at scenario time t; false stops the play.
+  virtual bool go_on(Duration t) = 0;
+  /// After the last write: whether the play still goes on (to send the last CAN frames).
+  virtual bool alive() = 0;
+  /// At the first byte of message k: write it, skip the whole of it, or stop.
+  virtual Begin begin(std::uint32_t k) = 0;
+  /// The last write of a skipped message k passed.
+  virtual void skipped(std::uint32_t k) = 0;
+  /// The size of message k [bytes].
+  virtual std::size_t size(std::uint32_t k) const = 0;
+  /// Writes bytes [offset, offset + length) of message k; returns how many the line took.
+  /// Realtime writes at once (a line never blocks); lockstep waits for room while its DUT
+  /// lives.
+  virtual std::size_t write(std::uint32_t k, std::uint32_t offset, std::uint32_t length,
+                            bool lockstep) = 0;
+  /// A write took `written` bytes of chunk c; its first byte left at start.
+  virtual void wrote(const Chunk& c, std::size_t written, Timestamp start) = 0;
+  /// Message k is whole on the wire, its first byte written at first, its last at end;
+  /// false stops the play.
+  virtual bool done(std::uint32_t k, Timestamp first, Timestamp end) = 0;
 };
+
+/// Plays writes (chunks of messages; whole messages in lockstep) in order. Returns false
+/// when it stopped early (a signal, or the host said stop).
+bool play_wires(const std::vector<ScheduledMessage>& messages, const std::vector<Chunk>& writes,
+                Pacer& pacer, PlayHost& host, const Clock& clock, const std::atomic<bool>& stop);
+
+/// The writes of a schedule for a pacer: realtime every chunk (bytes paced at the line's
+/// baud rate), lockstep every whole message at its start.
+std::vector<Chunk> writes_for(const WireSchedule& s, const Pacer& pacer,
+                              const std::vector<std::size_t>& message_sizes);
 
 }  // namespace nav::bench::detail

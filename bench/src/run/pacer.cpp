@@ -1,0 +1,63 @@
+// SPDX-License-Identifier: MIT
+#include "run/pacer.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace nav::bench::detail {
+
+RealtimePacer::RealtimePacer(Clock& clock, const std::atomic<bool>& stop, Duration poll_period)
+    : clock_(clock), stop_(stop), poll_period_(poll_period) {}
+
+void RealtimePacer::set_origin(Timestamp t0, Duration origin, double speed) {
+  t0_ = t0;
+  origin_ = origin;
+  speed_ = speed;
+}
+
+Timestamp RealtimePacer::deadline(Duration t) const {
+  if (speed_ == 1.0) return t0_ + (t - origin_);
+  return t0_ + Duration{static_cast<Duration::rep>(static_cast<double>((t - origin_).count()) /
+                                                   speed_)};
+}
+
+void RealtimePacer::advance(Duration t, IdleWork& idle) {
+  idle.send_can_due(t, [&](Duration due) { wait(due, idle); });
+  wait(t, idle);
+  idle.poll(now());
+}
+
+void RealtimePacer::finish(IdleWork& idle) {
+  idle.send_can_due(Duration::max(), [&](Duration due) { wait(due, idle); });
+}
+
+void RealtimePacer::wait(Duration t, IdleWork& idle) {
+  const Timestamp until = deadline(t);
+  if (!idle.active()) {
+    clock_.sleep_until(until, stop_);
+    return;
+  }
+  for (;;) {
+    const Timestamp now = clock_.now();
+    idle.poll(now - t0_);
+    idle.send_due(now - t0_);
+    if (now >= until || stop_) return;
+    Timestamp wake = std::min(until, now + poll_period_);
+    if (const auto due = idle.next_due()) wake = std::min(wake, t0_ + *due);
+    clock_.sleep_until(wake, stop_);
+  }
+}
+
+void LockstepPacer::advance(Duration t, IdleWork& idle) {
+  // What the DUT wrote while answering the messages so far happened at now_; CAN frames and
+  // answers due before this message's first byte go out first.
+  idle.poll(now_);
+  idle.send_can_due(t, [](Duration) {});
+  idle.send_due(t);
+}
+
+void LockstepPacer::finish(IdleWork& idle) {
+  idle.send_can_due(Duration::max(), [](Duration) {});
+}
+
+}  // namespace nav::bench::detail

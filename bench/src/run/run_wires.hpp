@@ -1,0 +1,100 @@
+// SPDX-License-Identifier: MIT
+// A run's side of the wire player (wire_player.hpp): its serial streams as one schedule, its
+// vehicles' triggers, and what happens around each write. Private to nav_bench.
+//
+//   realtime: the DUTs are watched every 50 ms; a GX3 not told to stream sends nothing; a
+//             line never blocks (bytes the DUT does not take are lost, like a UART overrun);
+//             every message's lateness is measured at its first byte;
+//   lockstep: the first trigger waits for the DUT's start command; a message waits for room
+//             on its line while the DUT lives; after a trigger nothing more is written until
+//             its DUT answered it (the barrier), after a stuck copy of a trigger until the DUT
+//             answered that copy (or one watchdog period).
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+#include "lines/bench_line.hpp"
+#include "nav/bench/wire_schedule.hpp"
+#include "run/can_sender.hpp"
+#include "run/clock.hpp"
+#include "run/device_streams.hpp"
+#include "run/dut_watch.hpp"
+#include "run/pacer.hpp"
+#include "run/reactive_devices.hpp"
+#include "run/run_log.hpp"
+#include "run/wire_player.hpp"
+
+namespace nav::bench::detail {
+
+/// Pacing granularity of serial bytes [ns].
+inline constexpr Duration kChunkPeriod = std::chrono::milliseconds(1);
+
+class RunWires final : public PlayHost {
+ public:
+  struct Parts {
+    const Scenario* sc = nullptr;
+    const std::vector<RunDevice>* devices = nullptr;
+    const DeviceStreams* streams = nullptr;
+    std::vector<BenchLine>* lines = nullptr;
+    RunLog* log = nullptr;
+    ReactiveDevices* reactive = nullptr;
+    DutWatch* watch = nullptr;
+    CanSender* can = nullptr;
+    const std::atomic<bool>* stop = nullptr;
+    bool quiet = false;  ///< no progress lines
+  };
+  /// Builds the wire schedule of the serial streams and the vehicles' trigger records.
+  explicit RunWires(Parts parts);
+
+  void set_t0(Timestamp t0) { t0_ = t0; }
+  /// Plays the schedule with the pacer of the scenario's mode.
+  void play(Pacer& pacer, const Clock& clock);
+  /// Per device: messages not written because the device was not streaming.
+  const std::vector<std::size_t>& suppressed() const { return suppressed_; }
+
+  // IdleWork: the reactive devices and the CAN bus.
+  void poll(Duration now) override { p_.reactive->poll_host_lines(now); }
+  void send_due(Duration t) override { p_.reactive->send_due_answers(t); }
+  void send_can_due(Duration t, const std::function<void(Duration)>& wait) override;
+  bool active() const override { return p_.reactive->any_to_read(); }
+  std::optional<Duration> next_due() const override { return p_.reactive->next_due(); }
+
+  // PlayHost.
+  bool go_on(Duration t) override;
+  bool alive() override;
+  Begin begin(std::uint32_t k) override;
+  void skipped(std::uint32_t k) override { ++suppressed_[schedule_.messages[k].device]; }
+  std::size_t size(std::uint32_t k) const override {
+    return message(schedule_.messages[k]).bytes.size();
+  }
+  std::size_t write(std::uint32_t k, std::uint32_t offset, std::uint32_t length,
+                    bool lockstep) override;
+  void wrote(const Chunk& c, std::size_t written, Timestamp start) override;
+  bool done(std::uint32_t k, Timestamp first, Timestamp end) override;
+
+ private:
+  bool is_trigger(const ScheduledMessage& m) const;
+  const emulators::WireMessage& message(const ScheduledMessage& m) const {
+    return p_.streams->serial[m.device][m.index];
+  }
+  TriggerRecord& trigger_record(std::uint32_t k);
+  bool barrier(Vehicle& veh, const TriggerRecord& tr);
+  bool wait_for_repeat_answer(Vehicle& veh, const ScheduledMessage& m);
+  void progress(Duration scenario_t);
+
+  Parts p_;
+  bool lockstep_;
+  WireSchedule schedule_;
+  /// Schedule message index -> (vehicle, index into its triggers).
+  std::unordered_map<std::uint32_t, std::pair<std::uint32_t, std::size_t>> trigger_of_message_;
+  std::vector<std::size_t> suppressed_;
+  Timestamp t0_{};
+  Duration next_check_{0};
+  Duration next_progress_;
+};
+
+}  // namespace nav::bench::detail

@@ -1,0 +1,221 @@
+// SPDX-License-Identifier: MIT
+// The wire player's loop and both pacers on a fake clock: realtime deadlines and chunks, the
+// idle work served while waiting, CAN frames at their own deadlines, lockstep's order and
+// barrier, a replay's speed.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <string>
+#include <vector>
+
+#include "run/pacer.hpp"
+#include "run/wire_player.hpp"
+
+namespace nav::bench::detail {
+namespace {
+
+using namespace std::chrono_literals;
+
+/// A clock that jumps to each deadline it is asked to sleep until.
+class FakeClock final : public Clock {
+ public:
+  Timestamp now() const override { return now_; }
+  void sleep_until(Timestamp t, const std::atomic<bool>&) override {
+    sleeps.push_back(t);
+    if (t > now_) now_ = t;
+  }
+  void advance(Duration d) { now_ += d; }
+  std::vector<Timestamp> sleeps;
+
+ private:
+  Timestamp now_{std::chrono::seconds(100)};
+};
+
+/// Records every call, in order, as text.
+class Recorder : public PlayHost {
+ public:
+  explicit Recorder(const FakeClock& clock) : clock_(clock) {}
+  std::vector<std::string> log;
+  bool work = false;                 ///< active()
+  std::optional<Duration> due;       ///< next_due()
+  std::vector<Duration> can_frames;  ///< due times of CAN frames to send
+  std::vector<std::size_t> sizes;
+  std::uint32_t skip = 99, stop_at_done = 99;
+
+  void poll(Duration now) override { log.push_back("poll " + ms(now)); }
+  void send_due(Duration t) override {
+    log.push_back("due " + ms(t));
+    if (due && *due <= t) due.reset();  // sent: nothing due any more
+  }
+  void send_can_due(Duration t, const std::function<void(Duration)>& wait) override {
+    while (!can_frames.empty() && can_frames.front() <= t) {
+      wait(can_frames.front());
+      log.push_back("can " + ms(can_frames.front()) + " at " + at());
+      can_frames.erase(can_frames.begin());
+    }
+  }
+  bool active() const override { return work; }
+  std::optional<Duration> next_due() const override { return due; }
+  bool go_on(Duration) override { return true; }
+  bool alive() override { return true; }
+  Begin begin(std::uint32_t k) override { return k == skip ? Begin::kSkip : Begin::kWrite; }
+  void skipped(std::uint32_t k) override { log.push_back("skipped " + std::to_string(k)); }
+  std::size_t size(std::uint32_t k) const override { return sizes[k]; }
+  std::size_t write(std::uint32_t k, std::uint32_t offset, std::uint32_t length,
+                    bool lockstep) override {
+    log.push_back("write " + std::to_string(k) + " [" + std::to_string(offset) + "+" +
+                  std::to_string(length) + "]" + (lockstep ? " whole" : "") + " at " + at());
+    return length;
+  }
+  void wrote(const Chunk&, std::size_t, Timestamp) override {}
+  bool done(std::uint32_t k, Timestamp first, Timestamp) override {
+    log.push_back("done " + std::to_string(k) + " first " + ms(first - std::chrono::seconds(100)));
+    return k != stop_at_done;
+  }
+
+ private:
+  static std::string ms(Duration d) { return std::to_string(d.count() / 1'000'000) + "ms"; }
+  std::string at() const { return ms(clock_.now() - std::chrono::seconds(100)); }
+  const FakeClock& clock_;
+};
+
+const Timestamp kT0{std::chrono::seconds(100)};
+
+TEST(RealtimePacer, SleepsToEachDeadlineWhenThereIsNoIdleWork) {
+  FakeClock clock;
+  std::atomic<bool> stop{false};
+  RealtimePacer p(clock, stop, 1ms);
+  p.set_origin(kT0);
+  Recorder r(clock);
+  p.advance(25ms, r);
+  p.advance(40ms, r);
+  ASSERT_EQ(clock.sleeps.size(), 2u);
+  EXPECT_EQ(clock.sleeps[0], kT0 + 25ms);  // absolute deadlines, one sleep each
+  EXPECT_EQ(clock.sleeps[1], kT0 + 40ms);
+  EXPECT_EQ(r.log, (std::vector<std::string>{"poll 25ms", "poll 40ms"}));  // after each wait
+}
+
+TEST(RealtimePacer, ServesIdleWorkEveryPollPeriodAndWakesAtWhatFallsDue) {
+  FakeClock clock;
+  std::atomic<bool> stop{false};
+  RealtimePacer p(clock, stop, 1ms);
+  p.set_origin(kT0);
+  Recorder r(clock);
+  r.work = true;
+  r.due = 1500us;  // an answer due between two poll periods
+  p.advance(3ms, r);
+  // Slices of at most 1 ms, the second cut short at the answer's time, which is then sent.
+  ASSERT_EQ(clock.sleeps.size(), 4u);
+  EXPECT_EQ(clock.sleeps[0], kT0 + 1ms);
+  EXPECT_EQ(clock.sleeps[1], kT0 + 1500us);
+  EXPECT_EQ(clock.sleeps[2], kT0 + 2500us);
+  EXPECT_EQ(clock.sleeps[3], kT0 + 3ms);
+  EXPECT_EQ(r.log, (std::vector<std::string>{"poll 0ms", "due 0ms", "poll 1ms", "due 1ms",
+                                             "poll 1ms", "due 1ms", "poll 2ms", "due 2ms",
+                                             "poll 3ms", "due 3ms", "poll 3ms"}));
+  EXPECT_FALSE(r.due.has_value());
+}
+
+TEST(RealtimePacer, CanFramesGoAtTheirOwnDeadlinesBeforeTheWrite) {
+  FakeClock clock;
+  std::atomic<bool> stop{false};
+  RealtimePacer p(clock, stop, 1ms);
+  p.set_origin(kT0);
+  Recorder r(clock);
+  r.can_frames = {2ms, 4ms, 9ms};
+  p.advance(5ms, r);
+  EXPECT_EQ(r.log, (std::vector<std::string>{"can 2ms at 2ms", "can 4ms at 4ms", "poll 5ms"}));
+  p.finish(r);  // the rest after the last write
+  EXPECT_EQ(r.log.back(), "can 9ms at 9ms");
+}
+
+TEST(RealtimePacer, OriginAndSpeedScaleTheDeadlines) {
+  FakeClock clock;
+  std::atomic<bool> stop{false};
+  RealtimePacer p(clock, stop, 1ms);
+  p.set_origin(kT0, 10s, 2.0);  // a capture starting at 10 s, played twice as fast
+  EXPECT_EQ(p.deadline(10s), kT0);
+  EXPECT_EQ(p.deadline(11s), kT0 + 500ms);
+}
+
+TEST(LockstepPacer, ServesAtTheDutsTimeThenWhatIsDueByTheMessageWithoutWaiting) {
+  FakeClock clock;
+  LockstepPacer p;
+  Recorder r(clock);
+  r.can_frames = {3ms};
+  p.advance(5ms, r);
+  p.written(7ms);
+  p.advance(10ms, r);
+  EXPECT_TRUE(clock.sleeps.empty());
+  EXPECT_EQ(r.log, (std::vector<std::string>{"poll 0ms", "can 3ms at 0ms", "due 5ms",
+                                             "poll 7ms", "due 10ms"}));
+}
+
+WireSchedule two_messages() {
+  // Message 0: 3 bytes in chunks at 0, 1, 2 ms; message 1: 2 bytes at 1.5 and 2.5 ms.
+  WireSchedule s;
+  s.messages = {{0, 0, 0ms, 3ms}, {1, 0, 1500us, 3500us}};
+  s.chunks = {{0ms, 0, 0, 1}, {1ms, 0, 1, 1}, {1500us, 1, 0, 1}, {2ms, 0, 2, 1}, {2500us, 1, 1, 1}};
+  return s;
+}
+
+TEST(PlayWires, RealtimeWritesEveryChunkAtItsDeadlineAndEndsEachMessageOnce) {
+  FakeClock clock;
+  std::atomic<bool> stop{false};
+  RealtimePacer p(clock, stop, 1ms);
+  p.set_origin(kT0);
+  Recorder r(clock);
+  r.sizes = {3, 2};
+  const auto s = two_messages();
+  ASSERT_TRUE(play_wires(s.messages, writes_for(s, p, r.sizes), p, r, clock, stop));
+  std::vector<std::string> writes;
+  for (const auto& l : r.log) {
+    if (l.rfind("poll", 0) != 0) writes.push_back(l);
+  }
+  EXPECT_EQ(writes, (std::vector<std::string>{
+                        "write 0 [0+1] at 0ms", "write 0 [1+1] at 1ms", "write 1 [0+1] at 1ms",
+                        "write 0 [2+1] at 2ms", "done 0 first 0ms", "write 1 [1+1] at 2ms",
+                        "done 1 first 1ms"}));
+}
+
+TEST(PlayWires, AMessageSkippedAtItsFirstByteIsSkippedWhole) {
+  FakeClock clock;
+  std::atomic<bool> stop{false};
+  RealtimePacer p(clock, stop, 1ms);
+  p.set_origin(kT0);
+  Recorder r(clock);
+  r.sizes = {3, 2};
+  r.skip = 0;
+  const auto s = two_messages();
+  ASSERT_TRUE(play_wires(s.messages, s.chunks, p, r, clock, stop));
+  EXPECT_EQ(std::count(r.log.begin(), r.log.end(), "skipped 0"), 1);
+  for (const auto& l : r.log) EXPECT_EQ(l.find("write 0"), std::string::npos) << l;
+}
+
+TEST(PlayWires, LockstepWritesWholeMessagesAndStopsWhenTheBarrierFails) {
+  FakeClock clock;
+  std::atomic<bool> stop{false};
+  LockstepPacer p;
+  Recorder r(clock);
+  r.sizes = {3, 2};
+  r.stop_at_done = 0;  // the DUT never answered message 0
+  const auto s = two_messages();
+  EXPECT_FALSE(play_wires(s.messages, writes_for(s, p, r.sizes), p, r, clock, stop));
+  EXPECT_EQ(r.log, (std::vector<std::string>{"poll 0ms", "due 0ms", "write 0 [0+3] whole at 0ms",
+                                             "done 0 first 0ms"}));
+  EXPECT_EQ(p.now(), 3ms);  // the end of message 0 on the wire
+}
+
+TEST(PlayWires, AStopSignalEndsThePlayBeforeTheNextWrite) {
+  FakeClock clock;
+  std::atomic<bool> stop{true};
+  LockstepPacer p;
+  Recorder r(clock);
+  r.sizes = {3, 2};
+  const auto s = two_messages();
+  EXPECT_FALSE(play_wires(s.messages, writes_for(s, p, r.sizes), p, r, clock, stop));
+  EXPECT_TRUE(r.log.empty());
+}
+
+}  // namespace
+}  // namespace nav::bench::detail
