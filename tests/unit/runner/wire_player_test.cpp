@@ -81,12 +81,30 @@ class Recorder : public PlayHost {
 
 const Timestamp kT0{std::chrono::seconds(100)};
 
-TEST(RealtimePacer, SleepsToEachDeadlineWhenThereIsNoIdleWork) {
+WireSchedule two_messages() {
+  // Message 0: 3 bytes in chunks at 0, 1, 2 ms; message 1: 2 bytes at 1.5 and 2.5 ms.
+  WireSchedule s;
+  s.messages = {{0, 0, 0ms, 3ms}, {1, 0, 1500us, 3500us}};
+  s.chunks = {{0ms, 0, 0, 1}, {1ms, 0, 1, 1}, {1500us, 1, 0, 1}, {2ms, 0, 2, 1}, {2500us, 1, 1, 1}};
+  return s;
+}
+
+/// A fake clock at t0 = 100 s, both pacers on it, a recording host, two messages.
+struct Player : ::testing::Test {
+  void SetUp() override {
+    realtime.set_origin(kT0);
+    r.sizes = {3, 2};
+  }
   FakeClock clock;
   std::atomic<bool> stop{false};
-  RealtimePacer p(clock, stop, 1ms);
-  p.set_origin(kT0);
-  Recorder r(clock);
+  RealtimePacer realtime{clock, stop, 1ms};
+  LockstepPacer lockstep;
+  Recorder r{clock};
+  WireSchedule s = two_messages();
+};
+
+TEST_F(Player, RealtimeSleepsToEachDeadlineWhenThereIsNoIdleWork) {
+  RealtimePacer& p = realtime;
   p.advance(25ms, r);
   p.advance(40ms, r);
   ASSERT_EQ(clock.sleeps.size(), 2u);
@@ -95,12 +113,8 @@ TEST(RealtimePacer, SleepsToEachDeadlineWhenThereIsNoIdleWork) {
   EXPECT_EQ(r.log, (std::vector<std::string>{"poll 25ms", "poll 40ms"}));  // after each wait
 }
 
-TEST(RealtimePacer, ServesIdleWorkEveryPollPeriodAndWakesAtWhatFallsDue) {
-  FakeClock clock;
-  std::atomic<bool> stop{false};
-  RealtimePacer p(clock, stop, 1ms);
-  p.set_origin(kT0);
-  Recorder r(clock);
+TEST_F(Player, RealtimeServesIdleWorkEveryPollPeriodAndWakesAtWhatFallsDue) {
+  RealtimePacer& p = realtime;
   r.work = true;
   r.due = 1500us;  // an answer due between two poll periods
   p.advance(3ms, r);
@@ -116,12 +130,8 @@ TEST(RealtimePacer, ServesIdleWorkEveryPollPeriodAndWakesAtWhatFallsDue) {
   EXPECT_FALSE(r.due.has_value());
 }
 
-TEST(RealtimePacer, CanFramesGoAtTheirOwnDeadlinesBeforeTheWrite) {
-  FakeClock clock;
-  std::atomic<bool> stop{false};
-  RealtimePacer p(clock, stop, 1ms);
-  p.set_origin(kT0);
-  Recorder r(clock);
+TEST_F(Player, RealtimeCanFramesGoAtTheirOwnDeadlinesBeforeTheWrite) {
+  RealtimePacer& p = realtime;
   r.can_frames = {2ms, 4ms, 9ms};
   p.advance(5ms, r);
   EXPECT_EQ(r.log, (std::vector<std::string>{"can 2ms at 2ms", "can 4ms at 4ms", "poll 5ms"}));
@@ -129,19 +139,15 @@ TEST(RealtimePacer, CanFramesGoAtTheirOwnDeadlinesBeforeTheWrite) {
   EXPECT_EQ(r.log.back(), "can 9ms at 9ms");
 }
 
-TEST(RealtimePacer, OriginAndSpeedScaleTheDeadlines) {
-  FakeClock clock;
-  std::atomic<bool> stop{false};
-  RealtimePacer p(clock, stop, 1ms);
+TEST_F(Player, RealtimeOriginAndSpeedScaleTheDeadlines) {
+  RealtimePacer& p = realtime;
   p.set_origin(kT0, 10s, 2.0);  // a capture starting at 10 s, played twice as fast
   EXPECT_EQ(p.deadline(10s), kT0);
   EXPECT_EQ(p.deadline(11s), kT0 + 500ms);
 }
 
-TEST(LockstepPacer, ServesAtTheDutsTimeThenWhatIsDueByTheMessageWithoutWaiting) {
-  FakeClock clock;
-  LockstepPacer p;
-  Recorder r(clock);
+TEST_F(Player, LockstepServesAtTheDutsTimeThenWhatIsDueByTheMessageWithoutWaiting) {
+  LockstepPacer& p = lockstep;
   r.can_frames = {3ms};
   p.advance(5ms, r);
   p.written(7ms);
@@ -151,22 +157,9 @@ TEST(LockstepPacer, ServesAtTheDutsTimeThenWhatIsDueByTheMessageWithoutWaiting) 
                                              "poll 7ms", "due 10ms"}));
 }
 
-WireSchedule two_messages() {
-  // Message 0: 3 bytes in chunks at 0, 1, 2 ms; message 1: 2 bytes at 1.5 and 2.5 ms.
-  WireSchedule s;
-  s.messages = {{0, 0, 0ms, 3ms}, {1, 0, 1500us, 3500us}};
-  s.chunks = {{0ms, 0, 0, 1}, {1ms, 0, 1, 1}, {1500us, 1, 0, 1}, {2ms, 0, 2, 1}, {2500us, 1, 1, 1}};
-  return s;
-}
 
-TEST(PlayWires, RealtimeWritesEveryChunkAtItsDeadlineAndEndsEachMessageOnce) {
-  FakeClock clock;
-  std::atomic<bool> stop{false};
-  RealtimePacer p(clock, stop, 1ms);
-  p.set_origin(kT0);
-  Recorder r(clock);
-  r.sizes = {3, 2};
-  const auto s = two_messages();
+TEST_F(Player, PlayRealtimeWritesEveryChunkAtItsDeadlineAndEndsEachMessageOnce) {
+  RealtimePacer& p = realtime;
   ASSERT_TRUE(play_wires(s.messages, writes_for(s, p, r.sizes), p, r, clock, stop));
   std::vector<std::string> writes;
   for (const auto& l : r.log) {
@@ -178,41 +171,26 @@ TEST(PlayWires, RealtimeWritesEveryChunkAtItsDeadlineAndEndsEachMessageOnce) {
                         "done 1 first 1ms"}));
 }
 
-TEST(PlayWires, AMessageSkippedAtItsFirstByteIsSkippedWhole) {
-  FakeClock clock;
-  std::atomic<bool> stop{false};
-  RealtimePacer p(clock, stop, 1ms);
-  p.set_origin(kT0);
-  Recorder r(clock);
-  r.sizes = {3, 2};
+TEST_F(Player, PlayAMessageSkippedAtItsFirstByteIsSkippedWhole) {
+  RealtimePacer& p = realtime;
   r.skip = 0;
-  const auto s = two_messages();
   ASSERT_TRUE(play_wires(s.messages, s.chunks, p, r, clock, stop));
   EXPECT_EQ(std::count(r.log.begin(), r.log.end(), "skipped 0"), 1);
   for (const auto& l : r.log) EXPECT_EQ(l.find("write 0"), std::string::npos) << l;
 }
 
-TEST(PlayWires, LockstepWritesWholeMessagesAndStopsWhenTheBarrierFails) {
-  FakeClock clock;
-  std::atomic<bool> stop{false};
-  LockstepPacer p;
-  Recorder r(clock);
-  r.sizes = {3, 2};
+TEST_F(Player, PlayLockstepWritesWholeMessagesAndStopsWhenTheBarrierFails) {
+  LockstepPacer& p = lockstep;
   r.stop_at_done = 0;  // the DUT never answered message 0
-  const auto s = two_messages();
   EXPECT_FALSE(play_wires(s.messages, writes_for(s, p, r.sizes), p, r, clock, stop));
   EXPECT_EQ(r.log, (std::vector<std::string>{"poll 0ms", "due 0ms", "write 0 [0+3] whole at 0ms",
                                              "done 0 first 0ms"}));
   EXPECT_EQ(p.now(), 3ms);  // the end of message 0 on the wire
 }
 
-TEST(PlayWires, AStopSignalEndsThePlayBeforeTheNextWrite) {
-  FakeClock clock;
-  std::atomic<bool> stop{true};
-  LockstepPacer p;
-  Recorder r(clock);
-  r.sizes = {3, 2};
-  const auto s = two_messages();
+TEST_F(Player, PlayAStopSignalEndsThePlayBeforeTheNextWrite) {
+  stop = true;
+  LockstepPacer& p = lockstep;
   EXPECT_FALSE(play_wires(s.messages, writes_for(s, p, r.sizes), p, r, clock, stop));
   EXPECT_TRUE(r.log.empty());
 }
