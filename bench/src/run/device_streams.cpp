@@ -5,47 +5,10 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "nav/emulators/dvl_emulator.hpp"
-#include "nav/emulators/ebimu_emulator.hpp"
-#include "nav/emulators/usbl_emulator.hpp"
-#include "nav/emulators/wheel_encoder_emulator.hpp"
+#include "devices/device_kind.hpp"
 
 namespace nav::bench::detail {
 namespace {
-
-/// A serial device's whole stream before faults, by its type.
-std::vector<emulators::WireMessage> generate_stream(const DeviceSpec& dev,
-                                                    const emulators::TruthTrajectory& truth,
-                                                    Duration duration, std::uint64_t seed) {
-  switch (dev.type) {
-    case DeviceSpec::Type::kMicrostrainGx3:
-      return emulators::generate_gx3(dev.gx3, truth, duration, seed);
-    case DeviceSpec::Type::kNmeaGps: return emulators::generate_gps(dev.gps, truth, duration, seed);
-    case DeviceSpec::Type::kDvl: return emulators::generate_dvl(dev.dvl, truth, duration, seed);
-    case DeviceSpec::Type::kEbimu:
-      return emulators::generate_ebimu(dev.ebimu, truth, duration, seed);
-    case DeviceSpec::Type::kEvologicsUsbl:
-      return emulators::generate_usbl(dev.usbl, truth, duration, seed);
-    case DeviceSpec::Type::kKeller:
-      return {};  // polled: its answers are made as the DUT's requests arrive
-    case DeviceSpec::Type::kAcousticModem:
-      return {};  // it writes only what the acoustic channel delivers
-    case DeviceSpec::Type::kNmea2000:
-    case DeviceSpec::Type::kWheelEncoders:
-      return {};  // CAN frames: generate_can()
-  }
-  throw std::logic_error("unknown device type");
-}
-
-/// A CAN device's frames, by its type.
-std::vector<emulators::CanWireFrame> generate_can_frames(const DeviceSpec& dev,
-                                                         const emulators::TruthTrajectory& truth,
-                                                         Duration duration, std::uint64_t seed) {
-  return dev.type == DeviceSpec::Type::kNmea2000
-             ? emulators::generate_nmea2000(dev.n2k, truth, duration, seed)
-             : emulators::generate_wheel_encoders(*dev.wheels, *dev.wheel_codec, truth, duration,
-                                                  seed);
-}
 
 /// Every CAN device's frames on the bus schedule of the scenario's bus.
 void generate_can(const Scenario& sc, const std::vector<RunDevice>& devices,
@@ -57,7 +20,8 @@ void generate_can(const Scenario& sc, const std::vector<RunDevice>& devices,
     const auto& dev = devices[d].spec;
     if (!dev.on_can()) continue;
     const auto seed = emulators::device_seed(sc.seed, dev.name);
-    for (auto& f : generate_can_frames(dev, truths[devices[d].vehicle], sc.duration, seed)) {
+    for (auto& f : device_kind(dev.type).frames(dev, truths[devices[d].vehicle], sc.duration,
+                                                 seed)) {
       emulators::WireMessage m;
       m.t_valid = f.t_valid;
       m.t_send = f.t_ready;
@@ -100,10 +64,14 @@ DeviceStreams generate_device_streams(const Scenario& sc, const std::vector<RunD
   DeviceStreams out;
   for (const auto& rd : devices) {
     const auto& dev = rd.spec;
-    auto stream = generate_stream(dev, truths[rd.vehicle], sc.duration,
-                                  emulators::device_seed(sc.seed, dev.name));
+    // Only a device with a stream of its own: a polled device's faults act on its answers
+    // (its emulator applies them), a modem and a CAN device carry no stream.
+    const DeviceKind& kind = device_kind(dev.type);
+    auto stream = kind.stream ? kind.stream(dev, truths[rd.vehicle], sc.duration,
+                                            emulators::device_seed(sc.seed, dev.name))
+                              : std::vector<emulators::WireMessage>{};
     out.stream_faults.emplace_back();
-    if (!dev.faults.empty() && dev.type != DeviceSpec::Type::kKeller) {
+    if (!dev.faults.empty() && kind.link == DeviceKind::Link::kStream) {
       stream = emulators::apply_faults(std::move(stream), dev.faults,
                                        emulators::device_seed(sc.seed, dev.name + "/faults"),
                                        &out.stream_faults.back());
@@ -115,21 +83,7 @@ DeviceStreams generate_device_streams(const Scenario& sc, const std::vector<RunD
 }
 
 const std::vector<emulators::MeasurementFault>& measurement_faults(const DeviceSpec& dev) {
-  switch (dev.type) {
-    case DeviceSpec::Type::kMicrostrainGx3: return dev.gx3.measurement_faults;
-    case DeviceSpec::Type::kNmeaGps: return dev.gps.measurement_faults;
-    case DeviceSpec::Type::kDvl: return dev.dvl.measurement_faults;
-    case DeviceSpec::Type::kEbimu: return dev.ebimu.measurement_faults;
-    case DeviceSpec::Type::kEvologicsUsbl: return dev.usbl.measurement_faults;
-    case DeviceSpec::Type::kKeller: return dev.keller.measurement_faults;
-    case DeviceSpec::Type::kNmea2000: return dev.n2k.measurement_faults;
-    case DeviceSpec::Type::kWheelEncoders:
-    case DeviceSpec::Type::kAcousticModem: {
-      static const std::vector<emulators::MeasurementFault> kNone;
-      return kNone;
-    }
-  }
-  throw std::logic_error("unknown device type");
+  return measurement_faults_of(dev);
 }
 
 }  // namespace nav::bench::detail

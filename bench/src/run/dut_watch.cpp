@@ -7,6 +7,8 @@
 #include <stdexcept>
 #include <thread>
 
+#include "devices/device_kind.hpp"
+
 namespace nav::bench::detail {
 
 DutWatch::DutWatch(const Scenario& sc, const std::vector<RunDevice>& devices,
@@ -133,8 +135,8 @@ void DutWatch::finish(const std::vector<std::size_t>& suppressed) {
   for (auto& veh : vehicles_) {
     const bool alive = !crashed_ && !hung_ && veh.proc->running();
     if (alive) veh.status = "alive until the end (pid " + std::to_string(veh.proc->pid()) + ")";
-    const bool gx3 = devices_[veh.trigger_device].spec.type == DeviceSpec::Type::kMicrostrainGx3;
-    if (alive && veh.triggers_sent == 0 && !veh.triggers.empty() && gx3 &&
+    const bool commanded = device_kind(devices_[veh.trigger_device].spec.type).commanded;
+    if (alive && veh.triggers_sent == 0 && !veh.triggers.empty() && commanded &&
         suppressed[veh.trigger_device] > 0) {
       veh.status += "; no solutions: it never sent the start command (C4 C1 29 CB) on '" +
                     veh.dut->trigger + "', " +

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <span>
 
+#include "devices/device_kind.hpp"
 #include "nav/bench/capture.hpp"
 #include "nav/bench/realtime.hpp"
 
@@ -24,8 +25,9 @@ ReactiveDevices::ReactiveDevices(const Scenario& sc, const std::vector<RunDevice
   answered_.assign(n, {});
   for (std::uint32_t d = 0; d < n; ++d) {
     const auto& dev = devices[d].spec;
-    if (dev.type == DeviceSpec::Type::kMicrostrainGx3) streaming_[d] = dev.gx3_continuous ? 1 : 0;
-    if (dev.type == DeviceSpec::Type::kKeller) {
+    const DeviceKind& kind = device_kind(dev.type);
+    if (kind.commanded) streaming_[d] = dev.gx3_continuous ? 1 : 0;
+    if (kind.link == DeviceKind::Link::kPolled) {
       polled_.push_back(std::make_unique<emulators::KellerEmulator>(
           dev.keller, truths[devices[d].vehicle], dev.faults,
           emulators::device_seed(sc.seed, dev.name),
@@ -34,7 +36,7 @@ ReactiveDevices::ReactiveDevices(const Scenario& sc, const std::vector<RunDevice
     } else {
       polled_.push_back(nullptr);
     }
-    if (dev.type == DeviceSpec::Type::kAcousticModem) {
+    if (kind.link == DeviceKind::Link::kChannel) {
       modem_node_.push_back(static_cast<int>(node_device_.size()));
       node_device_.push_back(d);
       any_to_read_ = true;  // its line is read like a polled device's
@@ -59,8 +61,8 @@ void ReactiveDevices::queue_answer(std::uint32_t d, emulators::WireMessage m) {
 void ReactiveDevices::poll_host_lines(Duration scenario_t) {
   namespace gx3 = protocols::gx3;
   for (std::uint32_t d = 0; d < devices_.size(); ++d) {
-    const bool is_gx3 = devices_[d].spec.type == DeviceSpec::Type::kMicrostrainGx3;
-    if (!is_gx3 && !polled_[d] && modem_node_[d] < 0) continue;
+    const bool commanded = device_kind(devices_[d].spec.type).commanded;
+    if (!commanded && !polled_[d] && modem_node_[d] < 0) continue;
     std::array<std::uint8_t, 256> buf{};
     for (;;) {
       // A non-blocking read of a pty master first pushes what the DUT has written to its

@@ -24,6 +24,7 @@
 
 #include "nav/common/units.hpp"
 #include "scenario/quantity.hpp"
+#include "devices/device_kind.hpp"
 #include "scenario/scenario_devices.hpp"
 #include "scenario/yaml_reader.hpp"
 
@@ -31,6 +32,8 @@ namespace nav::bench {
 namespace {
 
 using detail::Bound;
+using detail::device_kind;
+using detail::DeviceKind;
 using detail::Field;
 using detail::join;
 using detail::LoadError;
@@ -309,8 +312,7 @@ void read_dut(const Field& f, Scenario& s) {
   }
   const Field trigger = m.required("trigger");
   dut.trigger = device_ref(trigger, s);
-  if (const DeviceSpec* d = find_device(s, dut.trigger);
-      d->type != DeviceSpec::Type::kMicrostrainGx3) {
+  if (const DeviceSpec* d = find_device(s, dut.trigger); !device_kind(d->type).may_trigger) {
     trigger.fail("the trigger must be a microstrain-gx3-25 (only its packets carry the timer "
                  "tag the DUT echoes); " + quoted(d->name) + " is a " +
                  device_type_name(d->type));
@@ -412,7 +414,7 @@ void read_checks(const Field& f, Scenario& s) {
 std::size_t count_modems(const std::vector<DeviceSpec>& devices) {
   return static_cast<std::size_t>(
       std::count_if(devices.begin(), devices.end(), [](const DeviceSpec& d) {
-        return d.type == DeviceSpec::Type::kAcousticModem;
+        return device_kind(d.type).link == DeviceKind::Link::kChannel;
       }));
 }
 

@@ -66,8 +66,9 @@ struct DeviceSpec {
   std::shared_ptr<const emulators::WheelEncoderConfig> wheels;
   std::string dbc_path;  ///< kWheelEncoders: the DBC file, resolved (absolute or as written)
   std::shared_ptr<const protocols::wheel_encoder::WheelEncoderCodec> wheel_codec;
-  /// A device on the vehicle's CAN bus: no serial line (port and baud unused).
-  bool on_can() const { return type == Type::kNmea2000 || type == Type::kWheelEncoders; }
+  /// A device on the vehicle's CAN bus: no serial line (port and baud unused). Its kind says
+  /// (bench/src/devices/).
+  bool on_can() const;
   /// Faults applied to the encoded stream (for a Keller: to its answers), in file order
   /// (windows inside [0, duration)). Measurement faults live in the type's config.
   std::vector<emulators::FaultSpec> faults;

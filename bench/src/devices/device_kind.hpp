@@ -1,0 +1,95 @@
+// SPDX-License-Identifier: MIT
+// The device registry, in the manner of gpsd's driver table: one DeviceKind per scenario
+// device `type`, each in its own file of this folder, listed once in device_kinds.cpp. A kind
+// says what its scenario keys are (and their defaults), how to read them, what it puts on the
+// wire and which faults it takes; the bench asks the kind instead of switching on the type.
+// docs/adding-a-device.md shows how a kind is added. Private to nav_bench.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "nav/bench/scenario.hpp"
+#include "nav/emulators/measurement_faults.hpp"
+#include "nav/emulators/nmea2000_emulator.hpp"
+
+namespace nav::bench::detail {
+
+// scenario/yaml_reader.hpp (not included here: its templates must not meet std::quoted,
+// which <filesystem> and <iomanip> bring into files that use the registry).
+class Field;
+class MapReader;
+
+/// What a kind's reader sees of the device's scenario map.
+struct DeviceReadContext {
+  const MapReader& m;       ///< the device map, its keys checked against the kind's
+  const Field& type_field;  ///< where to point at the device as a whole
+  const Scenario& s;        ///< the scenario read so far (datum, vehicle, duration, CAN bus)
+  double rate_hz = 0.0;     ///< `rate`, or the kind's default
+  Duration latency{0};      ///< `latency`, or the kind's default
+};
+
+struct DeviceKind {
+  /// How a device of the kind reaches the DUT.
+  enum class Link {
+    kStream,   ///< a serial line carrying its own stream
+    kPolled,   ///< a serial line carrying answers to the DUT's requests (the Keller)
+    kChannel,  ///< a serial line carrying what the acoustic channel delivers (a modem)
+    kCan,      ///< frames on the vehicle's CAN bus
+  };
+  const char* name = nullptr;  ///< the scenario `type`
+  DeviceSpec::Type type{};
+  Link link = Link::kStream;
+  int baud = 115200;     ///< default line rate [bit/s] (serial kinds)
+  double rate_hz = 0.0;  ///< default `rate` [Hz]; 0 when the kind has no rate
+  Duration latency{0};   ///< default `latency`
+  /// Every scenario key a device of the kind may have, the common ones included.
+  std::vector<std::string> keys{};
+  /// Reads the kind's keys into d (its name, port, baud and faults are read by the caller);
+  /// returns the worst-case bytes of one message on its line, for the line budget (0: it
+  /// sends nothing on a schedule of its own).
+  std::size_t (*read)(const DeviceReadContext& c, DeviceSpec& d) = nullptr;
+  /// kStream: its messages over [0, duration), before stream faults.
+  std::vector<emulators::WireMessage> (*stream)(const DeviceSpec& d,
+                                                const emulators::TruthTrajectory& truth,
+                                                Duration duration, std::uint64_t seed) = nullptr;
+  /// kCan: its frames over [0, duration).
+  std::vector<emulators::CanWireFrame> (*frames)(const DeviceSpec& d,
+                                                 const emulators::TruthTrajectory& truth,
+                                                 Duration duration, std::uint64_t seed) = nullptr;
+  /// Its measurement faults in d's config; null for a kind that takes none.
+  std::vector<emulators::MeasurementFault>* (*measurement_faults)(DeviceSpec& d) = nullptr;
+  /// The measurement fault kinds it takes besides `wrong` (gps_jump, ...).
+  std::vector<emulators::MeasurementFault::Kind> special_faults{};
+  /// The quantities a `wrong` fault may act on.
+  std::vector<emulators::Quantity> wrong_quantities{};
+  /// It streams only once the DUT sent it the set-continuous command (the GX3 handshake).
+  bool commanded = false;
+  /// Its messages carry a time tag a DUT can name in its solutions: it may be the trigger.
+  bool may_trigger = false;
+};
+
+/// Every kind, in the order the scenario documentation lists them.
+const std::vector<const DeviceKind*>& device_kinds();
+/// The kind of a device type.
+const DeviceKind& device_kind(DeviceSpec::Type type);
+/// The kind named by a scenario `type`, or null.
+const DeviceKind* find_device_kind(std::string_view name);
+
+/// The measurement faults of a device (an empty list for a kind that takes none).
+const std::vector<emulators::MeasurementFault>& measurement_faults_of(const DeviceSpec& d);
+
+// One function per kind, each in its own file (gx3.cpp, gps.cpp, ...).
+const DeviceKind& gx3_kind();
+const DeviceKind& gps_kind();
+const DeviceKind& dvl_kind();
+const DeviceKind& ebimu_kind();
+const DeviceKind& usbl_kind();
+const DeviceKind& keller_kind();
+const DeviceKind& acoustic_modem_kind();
+const DeviceKind& nmea2000_kind();
+const DeviceKind& wheel_encoders_kind();
+
+}  // namespace nav::bench::detail

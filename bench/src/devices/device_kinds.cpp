@@ -1,0 +1,56 @@
+// SPDX-License-Identifier: MIT
+// The device registry: every kind of device a scenario may name. A new kind is its own file
+// in this folder plus one line here (docs/adding-a-device.md).
+#include <stdexcept>
+
+#include "devices/device_kind.hpp"
+
+namespace nav::bench::detail {
+
+const std::vector<const DeviceKind*>& device_kinds() {
+  static const std::vector<const DeviceKind*> kinds{
+      &gx3_kind(),
+      &gps_kind(),
+      &dvl_kind(),
+      &ebimu_kind(),
+      &usbl_kind(),
+      &keller_kind(),
+      &acoustic_modem_kind(),
+      &nmea2000_kind(),
+      &wheel_encoders_kind(),
+  };
+  return kinds;
+}
+
+const DeviceKind& device_kind(DeviceSpec::Type type) {
+  for (const auto* k : device_kinds()) {
+    if (k->type == type) return *k;
+  }
+  throw std::logic_error("a device type without a kind in device_kinds.cpp");
+}
+
+const DeviceKind* find_device_kind(std::string_view name) {
+  for (const auto* k : device_kinds()) {
+    if (name == k->name) return k;
+  }
+  return nullptr;
+}
+
+const std::vector<emulators::MeasurementFault>& measurement_faults_of(const DeviceSpec& d) {
+  static const std::vector<emulators::MeasurementFault> kNone;
+  const auto get = device_kind(d.type).measurement_faults;
+  // The accessor takes a mutable spec; reading through it changes nothing.
+  return get ? *get(const_cast<DeviceSpec&>(d)) : kNone;
+}
+
+}  // namespace nav::bench::detail
+
+namespace nav::bench {
+
+const char* device_type_name(DeviceSpec::Type t) { return detail::device_kind(t).name; }
+
+bool DeviceSpec::on_can() const {
+  return detail::device_kind(type).link == detail::DeviceKind::Link::kCan;
+}
+
+}  // namespace nav::bench

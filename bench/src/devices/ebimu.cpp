@@ -1,0 +1,90 @@
+// SPDX-License-Identifier: MIT
+// Device kind `ebimu-9dof`: an E2BOX EBIMU-9DOF, ASCII '*' lines of Euler angles, rates and
+// accelerations.
+#include <cmath>
+#include <cstdio>
+
+#include "devices/device_keys.hpp"
+#include "devices/device_kind.hpp"
+#include "nav/common/units.hpp"
+#include "nav/emulators/ebimu_emulator.hpp"
+
+namespace nav::bench::detail {
+namespace {
+
+using namespace std::chrono_literals;
+using Type = DeviceSpec::Type;
+using Link = DeviceKind::Link;
+using Q = emulators::Quantity;
+using MK = emulators::MeasurementFault::Kind;
+
+/// EBIMU: characters per value ("-179.99," or "-2000.000,"), plus '*', CR, LF per line.
+constexpr std::size_t kEbimuBytesPerValue = 10;
+
+void read_ebimu(const MapReader& m, emulators::EbimuConfig& c) {
+  if (auto v = m.optional("output")) {
+    c.quaternion = v->choice<bool>({{"euler", false}, {"quaternion", true}});
+  }
+  if (auto v = m.optional("gyro")) c.gyro = v->boolean();
+  if (auto v = m.optional("accel")) c.accel = v->boolean();
+  if (auto v = m.optional("errors")) {
+    const MapReader e(*v, {"attitude", "heading_bias", "gyro", "accel"});
+    if (auto x = e.optional("attitude")) {
+      c.attitude_std_rad = x->quantity(Dimension::kAngle, Bound::kNonNegative);
+    }
+    if (auto x = e.optional("heading_bias")) {
+      c.attitude_bias_rad = x->quantity(Dimension::kAngle);
+    }
+    if (auto g = e.optional("gyro")) {
+      read_triad(*g, Dimension::kAngularRate, Dimension::kAngularRateWalk, c.gyro_errors);
+    }
+    if (auto a = e.optional("accel")) {
+      read_triad(*a, Dimension::kAcceleration, Dimension::kAccelerationWalk, c.accel_errors);
+    }
+  }
+}
+
+/// Worst-case bytes of one EBIMU line: '*', CR, LF and up to 10 characters per value.
+std::size_t ebimu_bytes(const emulators::EbimuConfig& c) {
+  const std::size_t values = (c.quaternion ? 4u : 3u) + (c.gyro ? 3u : 0u) + (c.accel ? 3u : 0u);
+  return 3 + kEbimuBytesPerValue * values;
+}
+
+std::size_t read(const DeviceReadContext& c, DeviceSpec& d) {
+  d.ebimu.rate_hz = c.rate_hz;
+  d.ebimu.latency = c.latency;
+  read_ebimu(c.m, d.ebimu);
+  return ebimu_bytes(d.ebimu);
+}
+
+std::vector<emulators::WireMessage> stream(const DeviceSpec& d,
+                                           const emulators::TruthTrajectory& truth,
+                                           Duration duration, std::uint64_t seed) {
+  return emulators::generate_ebimu(d.ebimu, truth, duration, seed);
+}
+
+std::vector<emulators::MeasurementFault>* faults(DeviceSpec& d) {
+  return &d.ebimu.measurement_faults;
+}
+
+}  // namespace
+
+const DeviceKind& ebimu_kind() {
+  static const DeviceKind kind{
+      .name = "ebimu-9dof",
+      .type = Type::kEbimu,
+      .link = Link::kStream,
+      .baud = 115200,
+      .rate_hz = 100.0,
+      .latency = 0ms,
+      .keys = {"name", "type", "port", "baud", "rate", "errors", "faults", "latency", "output",
+               "gyro", "accel"},
+      .read = &read,
+      .stream = &stream,
+      .measurement_faults = &faults,
+      .wrong_quantities = {Q::kAttitude, Q::kGyro, Q::kAccel},
+  };
+  return kind;
+}
+
+}  // namespace nav::bench::detail

@@ -1,0 +1,102 @@
+// SPDX-License-Identifier: MIT
+// Device kind `wheel-encoders`: a crawler's two wheel encoders on the vehicle's CAN bus, their
+// frames laid out by a DBC (loaded and checked against the codec when the scenario loads).
+//
+// The wheel encoder headers bring <filesystem> and with it std::quoted, which ADL would
+// prefer to detail::quoted for std::string arguments: this file keeps them to itself.
+#include <optional>
+
+#include "devices/device_keys.hpp"
+#include "devices/device_kind.hpp"
+#include "nav/common/units.hpp"
+// After every header that uses detail::quoted in a template (see above).
+#include <filesystem>
+
+#include "nav/emulators/wheel_encoder_emulator.hpp"
+#include "nav/protocols/dbc.hpp"
+#include "nav/protocols/wheel_encoder.hpp"
+
+namespace nav::bench::detail {
+namespace {
+
+using namespace std::chrono_literals;
+
+/// detail::quoted for std::string (a non-template: preferred over std::quoted).
+std::string quoted(const std::string& s) { return detail::quoted(std::string_view(s)); }
+
+/// A `wheel-encoders` device's keys: the DBC (loaded and checked against the codec here),
+/// the drive geometry, slip and noise.
+void read_wheels(const MapReader& m, const Scenario& s, Duration latency,
+                 std::optional<double> rate_hz, DeviceSpec& d) {
+  namespace fs = std::filesystem;
+  emulators::WheelEncoderConfig c;
+  c.latency = latency;
+  c.rate_hz = rate_hz;
+  const Field f = m.required("dbc");
+  const std::string written = f.text("a DBC file path such as fixtures/crawler.dbc");
+  fs::path path(written);
+  if (path.is_relative()) path = fs::path(s.file).parent_path() / path;
+  auto db = protocols::dbc::load(path);
+  if (!db) f.fail("cannot use DBC " + path.string() + ": " + db.error().detail);
+  auto codec = protocols::wheel_encoder::WheelEncoderCodec::from_database(*db);
+  if (!codec) {
+    f.fail("DBC " + path.string() +
+           " does not fit the wheel encoder codec: " + codec.error().detail);
+  }
+  d.dbc_path = path.string();
+  d.wheel_codec =
+      std::make_shared<const protocols::wheel_encoder::WheelEncoderCodec>(std::move(*codec));
+  if (auto v = m.optional("wheel_radius")) c.wheel_radius_m = read_length_positive(*v);
+  if (auto v = m.optional("track")) c.track_width_m = read_length_positive(*v);
+  if (auto v = m.optional("slip")) {
+    const MapReader sl(*v, {"left", "right", "walk"});
+    if (auto x = sl.optional("left")) c.slip.left = x->signed_ratio();
+    if (auto x = sl.optional("right")) c.slip.right = x->signed_ratio();
+    if (auto x = sl.optional("walk")) {
+      const std::string t = x->text("a plain number >= 0 [1/sqrt(s)] such as 0.001");
+      const auto n = parse_number(t);
+      if (!n || *n < 0.0) {
+        x->fail("expected a plain number >= 0 [1/sqrt(s)] such as 0.001, got " + quoted(t));
+      }
+      c.slip.walk_std = *n;
+    }
+  }
+  if (auto v = m.optional("errors")) {
+    const MapReader e(*v, {"speed"});
+    if (auto x = e.optional("speed")) {
+      c.speed_std_radps = x->quantity(Dimension::kAngularRate, Bound::kNonNegative);
+    }
+  }
+  d.wheels = std::make_shared<const emulators::WheelEncoderConfig>(c);
+}
+
+std::size_t read(const DeviceReadContext& c, DeviceSpec& d) {
+  read_wheels(c.m, c.s, c.latency,
+              c.m.has("rate") ? std::optional<double>(c.rate_hz) : std::nullopt, d);
+  return 0;  // on the CAN bus
+}
+
+std::vector<emulators::CanWireFrame> frames(const DeviceSpec& d,
+                                            const emulators::TruthTrajectory& truth,
+                                            Duration duration, std::uint64_t seed) {
+  return emulators::generate_wheel_encoders(*d.wheels, *d.wheel_codec, truth, duration, seed);
+}
+
+}  // namespace
+
+const DeviceKind& wheel_encoders_kind() {
+  static const DeviceKind kind{
+      .name = "wheel-encoders",
+      .type = DeviceSpec::Type::kWheelEncoders,
+      .link = DeviceKind::Link::kCan,
+      .baud = 115200,  // unused: on the bus (DeviceSpec's default)
+      .rate_hz = 0.0,  // its DBC's message cycle unless `rate` is given
+      .latency = 1ms,  // WheelEncoderConfig's default
+      .keys = {"name", "type", "dbc", "wheel_radius", "track", "slip", "errors", "rate", "latency"},
+      .read = &read,
+      .frames = &frames,
+  };
+  return kind;
+}
+
+}  // namespace nav::bench::detail
