@@ -1,0 +1,124 @@
+// SPDX-License-Identifier: MIT
+// The `checks` list of a scenario (docs/scenario.md): each check's kind, limits, window,
+// requirement id and title.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <string>
+#include <utility>
+
+#include "devices/device_kind.hpp"
+#include "nav/common/units.hpp"
+#include "scenario/quantity.hpp"
+#include "scenario/scenario_devices.hpp"
+#include "scenario/scenario_sections.hpp"
+#include "scenario/yaml_reader.hpp"
+
+namespace nav::bench::detail {
+namespace {
+
+const std::vector<std::pair<std::string, CheckSpec::Kind>>& check_kinds() {
+  using Kind = CheckSpec::Kind;
+  static const std::vector<std::pair<std::string, Kind>> kinds{
+      {"horizontal_error", Kind::kHorizontalError},
+      {"vertical_error", Kind::kVerticalError},
+      {"attitude_error", Kind::kAttitudeError},
+      {"endpoint_error", Kind::kEndpointError},
+      {"deadline", Kind::kDeadline},
+      {"dut_alive", Kind::kDutAlive}};
+  return kinds;
+}
+
+CheckSpec read_check(const Field& item, const Scenario& s) {
+  using Kind = CheckSpec::Kind;
+  const auto& kinds = check_kinds();
+  if (!item.node().IsMap()) item.fail("expected a check map, got " + what_is(item.node()));
+  const auto kind_field = item.peek("kind");
+  if (!kind_field) item.fail("missing required key 'kind'");
+  CheckSpec c;
+  c.kind = kind_field->choice(kinds);
+  c.name = kind_field->node().Scalar();
+
+  std::vector<std::string> keys{"kind", "name", "req", "title"};
+  switch (c.kind) {
+    case Kind::kHorizontalError:
+    case Kind::kVerticalError: keys.insert(keys.end(), {"max", "per_distance", "after"}); break;
+    case Kind::kAttitudeError: keys.insert(keys.end(), {"max", "after"}); break;
+    case Kind::kEndpointError: keys.insert(keys.end(), {"max"}); break;
+    case Kind::kDeadline: keys.insert(keys.end(), {"input", "max_latency", "max_misses"}); break;
+    case Kind::kDutAlive: break;
+  }
+  const MapReader m(item, keys);
+  if (auto v = m.optional("name")) c.name = v->identifier();
+  if (auto v = m.optional("req")) c.req = v->line("a requirement id such as NAV-REQ-012", 64);
+  if (auto v = m.optional("title")) c.title = v->line("the requirement's title", 300);
+  switch (c.kind) {
+    case Kind::kHorizontalError:
+    case Kind::kVerticalError:
+    case Kind::kEndpointError:
+      c.max = m.required("max").quantity(Dimension::kLength, Bound::kPositive);
+      break;
+    case Kind::kAttitudeError:
+      c.max = m.required("max").quantity(Dimension::kAngle, Bound::kPositive);
+      break;
+    case Kind::kDeadline: {
+      const Field input = m.required("input");
+      c.input = device_ref(input, s);
+      if (c.input != s.dut.trigger) {
+        input.fail("the deadline input must be the DUT trigger " + quoted(s.dut.trigger) +
+                   " (latency is measured from the trigger's messages to the answers)");
+      }
+      c.max = to_seconds(m.required("max_latency").duration(Bound::kPositive));
+      if (auto v = m.optional("max_misses")) c.max_misses = v->integer<int>(0, 1'000'000'000);
+      break;
+    }
+    case Kind::kDutAlive: break;
+  }
+  if (auto v = m.optional("per_distance")) c.max_per_distance = v->ratio();
+  if (auto v = m.optional("after")) {
+    c.after = v->duration(Bound::kNonNegative);
+    if (c.after >= s.duration) {
+      char buf[160];
+      std::snprintf(buf, sizeof buf,
+                    "expected a time before the end of the scenario (duration %g s), got '%s'",
+                    to_seconds(s.duration), v->node().Scalar().c_str());
+      v->fail(buf);
+    }
+  }
+  return c;
+}
+
+}  // namespace
+
+void read_checks(const Field& f, Scenario& s) {
+  std::map<std::string, int> names;  // name -> 1-based line
+  bool deadline = false;
+  for (const Field& item : f.list("a list of checks", 0)) {
+    CheckSpec c = read_check(item, s);
+    const Field where = item.peek("name") ? *item.peek("name") : *item.peek("kind");
+    if (c.kind == CheckSpec::Kind::kDeadline) {
+      if (deadline) where.fail("only one deadline check per scenario (the DUT has one trigger)");
+      deadline = true;
+    }
+    const auto [it, fresh] = names.emplace(c.name, item.mark().line + 1);
+    if (!fresh) {
+      where.fail("duplicate check name " + quoted(c.name) + " (first at line " +
+                 std::to_string(it->second) + "; add name: to tell them apart)");
+    }
+    s.checks.push_back(std::move(c));
+  }
+}
+
+}  // namespace nav::bench::detail
+
+namespace nav::bench {
+
+const char* check_kind_name(CheckSpec::Kind k) {
+  for (const auto& [name, kind] : detail::check_kinds()) {
+    if (kind == k) return name.c_str();
+  }
+  return "unknown";
+}
+
+}  // namespace nav::bench

@@ -1,0 +1,228 @@
+// SPDX-License-Identifier: MIT
+// The `vehicle` section of a scenario (docs/scenario.md): name, start, attitude motion, path
+// segments, seabed, CAN bus and devices.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <string>
+#include <utility>
+
+#include "devices/device_kind.hpp"
+#include "nav/common/units.hpp"
+#include "scenario/quantity.hpp"
+#include "scenario/scenario_devices.hpp"
+#include "scenario/scenario_sections.hpp"
+#include "scenario/yaml_reader.hpp"
+
+namespace nav::bench::detail {
+namespace {
+
+using emulators::Segment;
+
+void read_start(const Field& f, emulators::TrajectorySpec& t) {
+  const MapReader m(f, {"north", "east", "depth", "heading"});
+  if (auto v = m.optional("north")) t.start_p_n.x() = v->quantity(Dimension::kLength);
+  if (auto v = m.optional("east")) t.start_p_n.y() = v->quantity(Dimension::kLength);
+  if (auto v = m.optional("depth")) {
+    t.start_p_n.z() = v->quantity(Dimension::kLength, Bound::kNonNegative);
+  }
+  if (auto v = m.optional("heading")) t.start_yaw_rad = v->quantity(Dimension::kAngle);
+}
+
+void read_motion(const Field& f, emulators::AttitudeMotion& motion) {
+  const MapReader m(f, {"roll", "pitch", "period"});
+  auto amplitude = [](const Field& v) {
+    const double a = v.quantity(Dimension::kAngle, Bound::kNonNegative);
+    if (a >= units::deg_to_rad(90.0)) {
+      v.fail("expected an amplitude below 90 deg, got " + quoted(v.node().Scalar()));
+    }
+    return a;
+  };
+  if (auto v = m.optional("roll")) motion.roll_amplitude_rad = amplitude(*v);
+  if (auto v = m.optional("pitch")) motion.pitch_amplitude_rad = amplitude(*v);
+  if (auto v = m.optional("period")) {
+    motion.period_s = v->quantity(Dimension::kTime, Bound::kPositive);
+  }
+}
+
+/// What the vehicle is doing between segments: speed and depth carry over.
+struct PathCursor {
+  double speed_mps = 0.0;  ///< the vehicle starts at rest
+  double depth_m = 0.0;
+  std::optional<double> seabed_m;  ///< vehicle.seabed, if given
+};
+
+Segment read_segment(const Field& item, PathCursor& cur) {
+  const std::vector<std::string> kinds{"straight", "arc", "turn", "depth"};
+  if (!item.node().IsMap()) {
+    item.fail("expected a segment map with one of " + join(kinds) + ", got " +
+              what_is(item.node()));
+  }
+  std::vector<std::string> present;
+  for (const auto& k : kinds) {
+    if (item.peek(k)) present.push_back(k);
+  }
+  if (present.size() != 1) {
+    item.fail("expected exactly one of " + join(kinds) + " in a segment, got " +
+              (present.empty() ? "none" : join(present, " and ")));
+  }
+  Segment seg;
+  const std::string& kind = present.front();
+  if (kind == "straight") {
+    const MapReader m(item, {"straight", "speed"});
+    seg.kind = Segment::Kind::kStraight;
+    seg.length_m = m.required("straight").quantity(Dimension::kLength, Bound::kPositive);
+    seg.speed_mps = m.required("speed").quantity(Dimension::kSpeed, Bound::kPositive);
+  } else if (kind == "arc") {
+    const MapReader m(item, {"arc", "radius", "speed"});
+    seg.kind = Segment::Kind::kArc;
+    seg.angle_rad = m.required("arc").quantity(Dimension::kAngle, Bound::kNonZero);
+    seg.radius_m = m.required("radius").quantity(Dimension::kLength, Bound::kPositive);
+    seg.speed_mps = m.required("speed").quantity(Dimension::kSpeed, Bound::kPositive);
+    seg.length_m = seg.radius_m * std::abs(seg.angle_rad);
+  } else if (kind == "turn") {
+    const MapReader m(item, {"turn", "rate"});
+    seg.kind = Segment::Kind::kTurn;
+    seg.angle_rad = m.required("turn").quantity(Dimension::kAngle, Bound::kNonZero);
+    seg.rate_radps = m.required("rate").quantity(Dimension::kAngularRate, Bound::kPositive);
+    seg.speed_mps = 0.0;  // a turn in place stops first
+  } else {
+    const MapReader m(item, {"depth", "rate", "speed"});
+    seg.kind = Segment::Kind::kDepth;
+    const Field change = m.required("depth");
+    seg.depth_change_m = change.quantity(Dimension::kLength, Bound::kNonZero);
+    seg.depth_rate_mps = m.required("rate").quantity(Dimension::kSpeed, Bound::kPositive);
+    seg.speed_mps = cur.speed_mps;
+    if (auto v = m.optional("speed")) {
+      seg.speed_mps = v->quantity(Dimension::kSpeed, Bound::kNonNegative);
+    }
+    const double to = cur.depth_m + seg.depth_change_m;
+    if (to < -1e-9) {
+      char buf[64];
+      std::snprintf(buf, sizeof buf, "%g m", to);
+      change.fail("this change takes the vehicle to a depth of " + std::string(buf) +
+                  ", above the surface (depth must stay >= 0 m)");
+    }
+    if (cur.seabed_m && to >= *cur.seabed_m) {
+      char buf[160];
+      std::snprintf(buf, sizeof buf,
+                    "this change takes the vehicle to a depth of %g m, at or below the seabed "
+                    "(vehicle.seabed %g m)", to, *cur.seabed_m);
+      change.fail(buf);
+    }
+    cur.depth_m = std::max(to, 0.0);
+  }
+  cur.speed_mps = seg.speed_mps;
+  return seg;
+}
+
+/// A CAN bit rate with its unit: "250 kbit/s", "1 Mbit/s", "125000 bit/s", from 10 kbit/s to
+/// 1 Mbit/s (classic CAN) [bit/s].
+double read_can_bitrate(const Field& f) {
+  const std::string expected = "a CAN bit rate such as '250 kbit/s', '1 Mbit/s' or '500000 bit/s'";
+  std::string t = f.text(expected);
+  double scale = 0.0;
+  for (const auto& [unit, k] : {std::pair<std::string_view, double>{"kbit/s", 1e3},
+                                {"Mbit/s", 1e6},
+                                {"bit/s", 1.0}}) {
+    if (t.size() > unit.size() && t.compare(t.size() - unit.size(), unit.size(), unit) == 0) {
+      t.resize(t.size() - unit.size());
+      scale = k;
+      break;
+    }
+  }
+  while (!t.empty() && t.back() == ' ') t.pop_back();
+  const auto n = scale > 0.0 ? parse_number(t) : std::nullopt;
+  if (!n) f.fail("expected " + expected + ", got " + quoted(f.node().Scalar()));
+  const double bps = *n * scale;
+  if (!(bps >= 10e3 && bps <= 1e6)) {
+    f.fail("expected a classic CAN bit rate from 10 kbit/s to 1 Mbit/s, got " +
+           quoted(f.node().Scalar()));
+  }
+  return bps;
+}
+
+/// vehicle.can: {interface, bitrate}.
+CanBusSpec read_can(const Field& f) {
+  const MapReader m(f, {"interface", "bitrate"});
+  CanBusSpec c;
+  const Field i = m.required("interface");
+  c.interface = i.text("a CAN interface name such as vcan0 or can0");
+  const bool ok = !c.interface.empty() && c.interface.size() < 16 &&
+                  std::all_of(c.interface.begin(), c.interface.end(), [](char ch) {
+                    return std::isalnum(static_cast<unsigned char>(ch)) || ch == '_' ||
+                           ch == '-' || ch == '.';
+                  });
+  if (!ok) {
+    i.fail("expected a CAN interface name such as vcan0 or can0 (at most 15 characters), got " +
+           quoted(c.interface));
+  }
+  if (auto v = m.optional("bitrate")) c.bitrate_bps = read_can_bitrate(*v);
+  return c;
+}
+
+}  // namespace
+
+void read_vehicle(const Field& f, Scenario& s) {
+  const MapReader m(f, {"name", "start", "max_accel", "arc_transition", "motion", "seabed", "path",
+                       "can", "devices"});
+  auto& t = s.trajectory;
+  if (auto v = m.optional("name")) s.vehicle_name = v->identifier();
+  if (auto v = m.optional("start")) read_start(*v, t);
+  if (auto v = m.optional("max_accel")) {
+    t.max_accel_mps2 = v->quantity(Dimension::kAcceleration, Bound::kPositive);
+  }
+  if (auto v = m.optional("arc_transition")) {
+    t.arc_transition_m = v->quantity(Dimension::kLength, Bound::kNonNegative);
+  }
+  if (auto v = m.optional("motion")) read_motion(*v, t.motion);
+  // Local normal gravity at the datum, as the vehicle's accelerometers would feel it.
+  t.gravity_mps2 = geodesy::normal_gravity(s.datum.lat_rad, s.datum.alt_m);
+
+  PathCursor cur;
+  cur.depth_m = t.start_p_n.z();
+  if (auto v = m.optional("seabed")) {
+    s.seabed_depth_m = v->quantity(Dimension::kLength, Bound::kPositive);
+    if (*s.seabed_depth_m <= cur.depth_m) {
+      char buf[160];
+      std::snprintf(buf, sizeof buf,
+                    "expected a seabed deeper than the start depth (%g m), got '%s'", cur.depth_m,
+                    v->node().Scalar().c_str());
+      v->fail(buf);
+    }
+    cur.seabed_m = s.seabed_depth_m;
+  }
+  if (auto v = m.optional("can")) s.can = read_can(*v);
+  for (const Field& item : m.required("path").list("a list of path segments", 1)) {
+    t.segments.push_back(read_segment(item, cur));
+    s.segment_locations.push_back(location(s.file, item.mark()));
+  }
+
+  read_devices(m.required("devices"), s);
+}
+
+
+const DeviceSpec* find_device(const Scenario& s, std::string_view name) {
+  for (const auto& d : s.devices) {
+    if (d.name == name) return &d;
+  }
+  return nullptr;
+}
+
+std::string device_names(const Scenario& s) {
+  std::vector<std::string> names;
+  for (const auto& d : s.devices) names.push_back(d.name);
+  return join(names);
+}
+
+/// A field naming a device of the scenario.
+std::string device_ref(const Field& f, const Scenario& s) {
+  const std::string name = f.text("a device name (" + device_names(s) + ")");
+  if (!find_device(s, name)) {
+    f.fail(quoted(name) + " names no device (devices: " + device_names(s) + ")");
+  }
+  return name;
+}
+
+}  // namespace nav::bench::detail
