@@ -24,7 +24,7 @@ constexpr double kTravelTolerance_s = 1e-10;  ///< below the 1 ns resolution of 
 }  // namespace
 
 AcousticChannel::AcousticChannel(const AcousticModemConfig& cfg,
-                                 std::vector<const TruthTrajectory*> nodes, std::uint64_t seed)
+                                 std::vector<const Truth*> nodes, std::uint64_t seed)
     : cfg_(cfg) {
   NAV_ENSURE(std::isfinite(cfg.bit_rate_bps) && cfg.bit_rate_bps > 0.0,
              "acoustic modem bit_rate_bps must be > 0");
@@ -179,7 +179,7 @@ double AcousticChannel::travel_range_m(std::size_t from, std::size_t to, Duratio
   // c tau = |p_r(t_e + tau) - p_s(t_e)|, iterated on the range r = c tau from
   // r_0 = |p_r(t_e) - p_s(t_e)|. The range itself is returned, so that two stationary
   // vehicles exactly max_range_m apart compare equal, not off by one rounding of c (r / c).
-  const TruthTrajectory& receiver = *nodes_[to].truth;
+  const Truth& receiver = *nodes_[to].truth;
   const Vec3 p_s = nodes_[from].truth->at(t_e).p_n;
   const double c = cfg_.sound_speed_mps;
   double r = (receiver.at(t_e).p_n - p_s).norm();

@@ -416,7 +416,7 @@ protocols::Bytes encode_a50(const DvlConfig& cfg, const Ping& p, Duration t_send
 
 }  // namespace
 
-std::vector<WireMessage> generate_dvl(const DvlConfig& cfg, const TruthTrajectory& truth,
+std::vector<WireMessage> generate_dvl(const DvlConfig& cfg, const Truth& truth,
                                       Duration duration, std::uint64_t seed) {
   NAV_ENSURE(std::isfinite(cfg.rate_hz) && cfg.rate_hz > 0.0, "DVL rate_hz must be > 0");
   NAV_ENSURE(cfg.latency.count() >= 0, "DVL latency must be >= 0");

@@ -63,7 +63,7 @@ double output_pitch(double a) {
 
 }  // namespace
 
-std::vector<WireMessage> generate_ebimu(const EbimuConfig& cfg, const TruthTrajectory& truth,
+std::vector<WireMessage> generate_ebimu(const EbimuConfig& cfg, const Truth& truth,
                                         Duration duration, std::uint64_t seed) {
   NAV_ENSURE(std::isfinite(cfg.rate_hz) && cfg.rate_hz > 0.0, "EBIMU rate_hz must be > 0");
   NAV_ENSURE(cfg.latency.count() >= 0, "EBIMU latency must be >= 0");

@@ -75,7 +75,7 @@ double course_deg(double v_north, double v_east) {
 
 /// Time the vehicle rises through max_depth between t_deep (deeper) and t_shallow (not
 /// deeper): the first shallow time found by bisection, to kSurfaceTolerance [ns].
-Duration surfacing_time(const TruthTrajectory& truth, double max_depth, Duration t_deep,
+Duration surfacing_time(const Truth& truth, double max_depth, Duration t_deep,
                         Duration t_shallow) {
   while (t_shallow - t_deep > kSurfaceTolerance) {
     const Duration mid = t_deep + (t_shallow - t_deep) / 2;
@@ -90,7 +90,7 @@ Duration surfacing_time(const TruthTrajectory& truth, double max_depth, Duration
 
 }  // namespace
 
-std::vector<WireMessage> generate_gps(const GpsConfig& cfg, const TruthTrajectory& truth,
+std::vector<WireMessage> generate_gps(const GpsConfig& cfg, const Truth& truth,
                                       Duration duration, std::uint64_t seed) {
   NAV_ENSURE(std::isfinite(cfg.rate_hz) && cfg.rate_hz > 0.0, "GPS rate_hz must be > 0");
   NAV_ENSURE(cfg.latency.count() >= 0, "GPS latency must be >= 0");

@@ -50,7 +50,7 @@ std::array<float, 3> to_float3(const Vec3& v) {
 
 }  // namespace
 
-std::vector<WireMessage> generate_gx3(const Gx3Config& cfg, const TruthTrajectory& truth,
+std::vector<WireMessage> generate_gx3(const Gx3Config& cfg, const Truth& truth,
                                       Duration duration, std::uint64_t seed) {
   NAV_ENSURE(std::isfinite(cfg.rate_hz) && cfg.rate_hz > 0.0, "GX3 rate_hz must be > 0");
   NAV_ENSURE(cfg.latency.count() >= 0, "GX3 latency must be >= 0");

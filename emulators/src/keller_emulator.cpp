@@ -95,7 +95,7 @@ kb::Exception exception_body(kb::Function f, kb::ExceptionCode code) {
 
 }  // namespace
 
-KellerEmulator::KellerEmulator(const KellerConfig& cfg, const TruthTrajectory& truth,
+KellerEmulator::KellerEmulator(const KellerConfig& cfg, const Truth& truth,
                                std::vector<FaultSpec> faults, std::uint64_t seed,
                                std::uint64_t fault_seed)
     : cfg_(cfg),

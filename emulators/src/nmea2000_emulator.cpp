@@ -88,7 +88,7 @@ constexpr std::int64_t kTimeStepsPerDay = 864'000'000;  ///< 86400 s in 1e-4 s s
 /// Which quantities of the device surface at t: computes surfacings once.
 class GnssFix {
  public:
-  GnssFix(const Nmea2000Config& cfg, const TruthTrajectory& truth, Duration duration)
+  GnssFix(const Nmea2000Config& cfg, const Truth& truth, Duration duration)
       : truth_(truth), max_depth_(cfg.max_depth_for_fix_m), reacquisition_(cfg.reacquisition) {
     std::optional<Duration> last_deep;
     for (Duration t{0};; t += kTrackingStep) {
@@ -121,7 +121,7 @@ class GnssFix {
     return t_shallow;
   }
 
-  const TruthTrajectory& truth_;
+  const Truth& truth_;
   double max_depth_;
   Duration reacquisition_;
   std::vector<Duration> surfacings_;  ///< sorted
@@ -207,7 +207,7 @@ double heading_rate(const TruthSample& s, const Euler& e) {
 }  // namespace
 
 std::vector<CanWireFrame> generate_nmea2000(const Nmea2000Config& cfg,
-                                            const TruthTrajectory& truth, Duration duration,
+                                            const Truth& truth, Duration duration,
                                             std::uint64_t seed) {
   check_config(cfg);
   const auto& faults = cfg.measurement_faults;

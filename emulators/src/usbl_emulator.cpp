@@ -78,7 +78,7 @@ constexpr int kMaxIterations = 50;      ///< fixed-point iterations of the trave
 
 /// One-way travel time from the transceiver at p_t to the vehicle it reaches, for a ping
 /// leaving at t_i [s].
-double one_way_time_s(const TruthTrajectory& truth, Duration t_i, const Vec3& p_t, double c) {
+double one_way_time_s(const Truth& truth, Duration t_i, const Vec3& p_t, double c) {
   double tau = (truth.at(t_i).p_n - p_t).norm() / c;
   for (int it = 0; it < kMaxIterations; ++it) {
     const double next = (truth.at(t_i + from_seconds(tau)).p_n - p_t).norm() / c;
@@ -91,7 +91,7 @@ double one_way_time_s(const TruthTrajectory& truth, Duration t_i, const Vec3& p_
 
 }  // namespace
 
-std::vector<WireMessage> generate_usbl(const UsblConfig& cfg, const TruthTrajectory& truth,
+std::vector<WireMessage> generate_usbl(const UsblConfig& cfg, const Truth& truth,
                                        Duration duration, std::uint64_t seed) {
   NAV_ENSURE(std::isfinite(cfg.rate_hz) && cfg.rate_hz > 0.0, "USBL rate_hz must be > 0");
   NAV_ENSURE(cfg.transceiver_p_n.allFinite(), "USBL transceiver_p_n must be finite");

@@ -47,7 +47,7 @@ namespace we = protocols::wheel_encoder;
 constexpr Duration kMaxSubStep{std::chrono::milliseconds(5)};  ///< Simpson sub-step bound
 
 /// Ground speeds of the left and right wheel at t [m/s].
-std::array<double, 2> wheel_speeds(const TruthTrajectory& truth, Duration t, double track_m) {
+std::array<double, 2> wheel_speeds(const Truth& truth, Duration t, double track_m) {
   const TruthSample s = truth.at(t);
   const double u = (s.q_nb.conjugate() * s.v_n).x();
   const double r = s.omega_b.z();
@@ -55,7 +55,7 @@ std::array<double, 2> wheel_speeds(const TruthTrajectory& truth, Duration t, dou
 }
 
 /// Integral of wheel j's ground speed over [a, b] by composite Simpson [m].
-double wheel_distance(const TruthTrajectory& truth, Duration a, Duration b, double track_m,
+double wheel_distance(const Truth& truth, Duration a, Duration b, double track_m,
                       std::size_t j) {
   if (b <= a) return 0.0;
   std::int64_t n = ((b - a).count() + kMaxSubStep.count() - 1) / kMaxSubStep.count();
@@ -86,7 +86,7 @@ protocols::can::Frame to_can(const protocols::dbc::Frame& f) {
 
 std::vector<CanWireFrame> generate_wheel_encoders(const WheelEncoderConfig& cfg,
                                                   const we::WheelEncoderCodec& codec,
-                                                  const TruthTrajectory& truth,
+                                                  const Truth& truth,
                                                   Duration duration, std::uint64_t seed) {
   NAV_ENSURE(std::isfinite(cfg.wheel_radius_m) && cfg.wheel_radius_m > 0.0,
              "wheel encoder wheel_radius_m must be > 0");

@@ -12,7 +12,6 @@ namespace nav::bench::detail {
 namespace {
 
 using namespace std::chrono_literals;
-using Type = DeviceSpec::Type;
 using Link = DeviceKind::Link;
 using Q = emulators::Quantity;
 using MK = emulators::MeasurementFault::Kind;
@@ -26,7 +25,6 @@ std::size_t read(const DeviceReadContext&, DeviceSpec&) {
 const DeviceKind& acoustic_modem_kind() {
   static const DeviceKind kind{
       .name = "acoustic-modem",
-      .type = Type::kAcousticModem,
       .link = Link::kChannel,
       .baud = 9600,  // the DUT's serial side of the modem
       .rate_hz = 0.0,

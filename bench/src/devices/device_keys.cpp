@@ -119,4 +119,21 @@ double read_length_positive(const Field& f) {
   return f.quantity(Dimension::kLength, Bound::kPositive);
 }
 
+emulators::Mount read_mount(const Field& f) {
+  const MapReader m(f, {"lever_arm", "rotation"});
+  emulators::Mount mount;
+  if (auto v = m.optional("lever_arm")) {
+    mount.lever_arm_b = read_xyz(*v, [](const Field& x) { return x.quantity(Dimension::kLength); });
+  }
+  if (auto v = m.optional("rotation")) {
+    const MapReader r(*v, {"roll", "pitch", "yaw"});
+    Euler e{0.0, 0.0, 0.0};
+    if (auto x = r.optional("roll")) e.roll = x->quantity(Dimension::kAngle);
+    if (auto x = r.optional("pitch")) e.pitch = x->quantity(Dimension::kAngle);
+    if (auto x = r.optional("yaw")) e.yaw = x->quantity(Dimension::kAngle);
+    mount.q_bd = quat_from_euler(e);
+  }
+  return mount;
+}
+
 }  // namespace nav::bench::detail

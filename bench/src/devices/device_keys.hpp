@@ -8,6 +8,7 @@
 
 #include "nav/common/frames.hpp"
 #include "nav/emulators/device.hpp"
+#include "nav/emulators/mounted_truth.hpp"
 #include "scenario/yaml_reader.hpp"
 
 namespace nav::bench::detail {
@@ -41,5 +42,8 @@ void read_triad(const Field& f, Dimension dim, Dimension walk_dim, emulators::Tr
 double utc_seconds(const Field& f);
 /// A length > 0 [m].
 double read_length_positive(const Field& f);
+/// A device's `mount`: {lever_arm: {x, y, z} lengths, rotation: {roll, pitch, yaw} angles},
+/// both optional, each angle 0 unless given (ZYX, the device's axes relative to the body's).
+emulators::Mount read_mount(const Field& f);
 
 }  // namespace nav::bench::detail

@@ -39,8 +39,7 @@ struct DeviceKind {
     kChannel,  ///< a serial line carrying what the acoustic channel delivers (a modem)
     kCan,      ///< frames on the vehicle's CAN bus
   };
-  const char* name = nullptr;  ///< the scenario `type`
-  DeviceSpec::Type type{};
+  const char* name = nullptr;  ///< the scenario `type` (DeviceSpec::type)
   Link link = Link::kStream;
   int baud = 115200;     ///< default line rate [bit/s] (serial kinds)
   double rate_hz = 0.0;  ///< default `rate` [Hz]; 0 when the kind has no rate
@@ -53,11 +52,11 @@ struct DeviceKind {
   std::size_t (*read)(const DeviceReadContext& c, DeviceSpec& d) = nullptr;
   /// kStream: its messages over [0, duration), before stream faults.
   std::vector<emulators::WireMessage> (*stream)(const DeviceSpec& d,
-                                                const emulators::TruthTrajectory& truth,
+                                                const emulators::Truth& truth,
                                                 Duration duration, std::uint64_t seed) = nullptr;
   /// kCan: its frames over [0, duration).
   std::vector<emulators::CanWireFrame> (*frames)(const DeviceSpec& d,
-                                                 const emulators::TruthTrajectory& truth,
+                                                 const emulators::Truth& truth,
                                                  Duration duration, std::uint64_t seed) = nullptr;
   /// Its measurement faults in d's config; null for a kind that takes none.
   std::vector<emulators::MeasurementFault>* (*measurement_faults)(DeviceSpec& d) = nullptr;
@@ -73,8 +72,8 @@ struct DeviceKind {
 
 /// Every kind, in the order the scenario documentation lists them.
 const std::vector<const DeviceKind*>& device_kinds();
-/// The kind of a device type.
-const DeviceKind& device_kind(DeviceSpec::Type type);
+/// The kind of a device (of a spec made by the scenario reader: its type is a kind's name).
+const DeviceKind& device_kind(const DeviceSpec& d);
 /// The kind named by a scenario `type`, or null.
 const DeviceKind* find_device_kind(std::string_view name);
 

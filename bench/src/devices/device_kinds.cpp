@@ -22,11 +22,10 @@ const std::vector<const DeviceKind*>& device_kinds() {
   return kinds;
 }
 
-const DeviceKind& device_kind(DeviceSpec::Type type) {
-  for (const auto* k : device_kinds()) {
-    if (k->type == type) return *k;
-  }
-  throw std::logic_error("a device type without a kind in device_kinds.cpp");
+const DeviceKind& device_kind(const DeviceSpec& d) {
+  if (const DeviceKind* k = find_device_kind(d.type)) return *k;
+  throw std::logic_error("device '" + d.name + "' of type '" + d.type +
+                         "', which has no kind in device_kinds.cpp");
 }
 
 const DeviceKind* find_device_kind(std::string_view name) {
@@ -38,19 +37,18 @@ const DeviceKind* find_device_kind(std::string_view name) {
 
 const std::vector<emulators::MeasurementFault>& measurement_faults_of(const DeviceSpec& d) {
   static const std::vector<emulators::MeasurementFault> kNone;
-  const auto get = device_kind(d.type).measurement_faults;
-  // The accessor takes a mutable spec; reading through it changes nothing.
-  return get ? *get(const_cast<DeviceSpec&>(d)) : kNone;
+  const auto get = device_kind(d).measurement_faults;
+  // A spec its kind has not read yet has no settings, and no faults. The accessor takes a
+  // mutable spec; reading through it changes nothing.
+  return get && d.settings.has_value() ? *get(const_cast<DeviceSpec&>(d)) : kNone;
 }
 
 }  // namespace nav::bench::detail
 
 namespace nav::bench {
 
-const char* device_type_name(DeviceSpec::Type t) { return detail::device_kind(t).name; }
-
 bool DeviceSpec::on_can() const {
-  return detail::device_kind(type).link == detail::DeviceKind::Link::kCan;
+  return detail::device_kind(*this).link == detail::DeviceKind::Link::kCan;
 }
 
 }  // namespace nav::bench

@@ -13,7 +13,6 @@ namespace nav::bench::detail {
 namespace {
 
 using namespace std::chrono_literals;
-using Type = DeviceSpec::Type;
 using Link = DeviceKind::Link;
 using Q = emulators::Quantity;
 using MK = emulators::MeasurementFault::Kind;
@@ -90,23 +89,24 @@ std::size_t dvl_bytes(emulators::DvlProtocol p) {
 }
 
 std::size_t read(const DeviceReadContext& c, DeviceSpec& d) {
-  d.dvl.rate_hz = c.rate_hz;
-  d.dvl.latency = c.latency;
-  read_dvl(c.m, d.dvl);
+  auto& cfg = d.settings.emplace<emulators::DvlConfig>();
+  cfg.rate_hz = c.rate_hz;
+  cfg.latency = c.latency;
+  read_dvl(c.m, cfg);
   if (!c.s.seabed_depth_m)
     c.type_field.fail("a dvl needs the seabed: add 'seabed: <depth>' to vehicle");
-  d.dvl.seabed_depth_m = *c.s.seabed_depth_m;
-  return dvl_bytes(d.dvl.protocol);
+  cfg.seabed_depth_m = *c.s.seabed_depth_m;
+  return dvl_bytes(cfg.protocol);
 }
 
 std::vector<emulators::WireMessage> stream(const DeviceSpec& d,
-                                           const emulators::TruthTrajectory& truth,
+                                           const emulators::Truth& truth,
                                            Duration duration, std::uint64_t seed) {
-  return emulators::generate_dvl(d.dvl, truth, duration, seed);
+  return emulators::generate_dvl(d.config<emulators::DvlConfig>(), truth, duration, seed);
 }
 
 std::vector<emulators::MeasurementFault>* faults(DeviceSpec& d) {
-  return &d.dvl.measurement_faults;
+  return &d.config<emulators::DvlConfig>().measurement_faults;
 }
 
 }  // namespace
@@ -114,7 +114,6 @@ std::vector<emulators::MeasurementFault>* faults(DeviceSpec& d) {
 const DeviceKind& dvl_kind() {
   static const DeviceKind kind{
       .name = "dvl",
-      .type = Type::kDvl,
       .link = Link::kStream,
       .baud = 115200,
       .rate_hz = 5.0,

@@ -13,7 +13,6 @@ namespace nav::bench::detail {
 namespace {
 
 using namespace std::chrono_literals;
-using Type = DeviceSpec::Type;
 using Link = DeviceKind::Link;
 using Q = emulators::Quantity;
 using MK = emulators::MeasurementFault::Kind;
@@ -51,20 +50,21 @@ std::size_t ebimu_bytes(const emulators::EbimuConfig& c) {
 }
 
 std::size_t read(const DeviceReadContext& c, DeviceSpec& d) {
-  d.ebimu.rate_hz = c.rate_hz;
-  d.ebimu.latency = c.latency;
-  read_ebimu(c.m, d.ebimu);
-  return ebimu_bytes(d.ebimu);
+  auto& cfg = d.settings.emplace<emulators::EbimuConfig>();
+  cfg.rate_hz = c.rate_hz;
+  cfg.latency = c.latency;
+  read_ebimu(c.m, cfg);
+  return ebimu_bytes(cfg);
 }
 
 std::vector<emulators::WireMessage> stream(const DeviceSpec& d,
-                                           const emulators::TruthTrajectory& truth,
+                                           const emulators::Truth& truth,
                                            Duration duration, std::uint64_t seed) {
-  return emulators::generate_ebimu(d.ebimu, truth, duration, seed);
+  return emulators::generate_ebimu(d.config<emulators::EbimuConfig>(), truth, duration, seed);
 }
 
 std::vector<emulators::MeasurementFault>* faults(DeviceSpec& d) {
-  return &d.ebimu.measurement_faults;
+  return &d.config<emulators::EbimuConfig>().measurement_faults;
 }
 
 }  // namespace
@@ -72,7 +72,6 @@ std::vector<emulators::MeasurementFault>* faults(DeviceSpec& d) {
 const DeviceKind& ebimu_kind() {
   static const DeviceKind kind{
       .name = "ebimu-9dof",
-      .type = Type::kEbimu,
       .link = Link::kStream,
       .baud = 115200,
       .rate_hz = 100.0,

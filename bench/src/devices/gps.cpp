@@ -14,7 +14,6 @@ namespace nav::bench::detail {
 namespace {
 
 using namespace std::chrono_literals;
-using Type = DeviceSpec::Type;
 using Link = DeviceKind::Link;
 using Q = emulators::Quantity;
 using MK = emulators::MeasurementFault::Kind;
@@ -97,21 +96,22 @@ std::size_t gps_epoch_bytes(const emulators::GpsConfig& c) {
 }
 
 std::size_t read(const DeviceReadContext& c, DeviceSpec& d) {
-  d.gps.rate_hz = c.rate_hz;
-  d.gps.latency = c.latency;
-  read_gps(c.m, c.s.datum, d.gps);
-  read_gps_extras(c.m, d.gps);
-  return gps_epoch_bytes(d.gps);
+  auto& cfg = d.settings.emplace<emulators::GpsConfig>();
+  cfg.rate_hz = c.rate_hz;
+  cfg.latency = c.latency;
+  read_gps(c.m, c.s.datum, cfg);
+  read_gps_extras(c.m, cfg);
+  return gps_epoch_bytes(cfg);
 }
 
 std::vector<emulators::WireMessage> stream(const DeviceSpec& d,
-                                           const emulators::TruthTrajectory& truth,
+                                           const emulators::Truth& truth,
                                            Duration duration, std::uint64_t seed) {
-  return emulators::generate_gps(d.gps, truth, duration, seed);
+  return emulators::generate_gps(d.config<emulators::GpsConfig>(), truth, duration, seed);
 }
 
 std::vector<emulators::MeasurementFault>* faults(DeviceSpec& d) {
-  return &d.gps.measurement_faults;
+  return &d.config<emulators::GpsConfig>().measurement_faults;
 }
 
 }  // namespace
@@ -119,7 +119,6 @@ std::vector<emulators::MeasurementFault>* faults(DeviceSpec& d) {
 const DeviceKind& gps_kind() {
   static const DeviceKind kind{
       .name = "nmea0183-gps",
-      .type = Type::kNmeaGps,
       .link = Link::kStream,
       .baud = 9600,
       .rate_hz = 1.0,

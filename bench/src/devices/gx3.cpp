@@ -14,7 +14,6 @@ namespace nav::bench::detail {
 namespace {
 
 using namespace std::chrono_literals;
-using Type = DeviceSpec::Type;
 using Link = DeviceKind::Link;
 using Q = emulators::Quantity;
 using MK = emulators::MeasurementFault::Kind;
@@ -97,21 +96,22 @@ void read_gx3(const MapReader& m, emulators::Gx3Config& c) {
 }
 
 std::size_t read(const DeviceReadContext& c, DeviceSpec& d) {
-  d.gx3.rate_hz = c.rate_hz;
-  d.gx3.latency = c.latency;
-  read_gx3(c.m, d.gx3);
-  if (auto v = c.m.optional("continuous")) d.gx3_continuous = v->boolean();
+  auto& cfg = d.settings.emplace<emulators::Gx3Config>();
+  cfg.rate_hz = c.rate_hz;
+  cfg.latency = c.latency;
+  read_gx3(c.m, cfg);
+  if (auto v = c.m.optional("continuous")) cfg.continuous = v->boolean();
   return protocols::gx3::kAccelRateMagLength;
 }
 
 std::vector<emulators::WireMessage> stream(const DeviceSpec& d,
-                                           const emulators::TruthTrajectory& truth,
+                                           const emulators::Truth& truth,
                                            Duration duration, std::uint64_t seed) {
-  return emulators::generate_gx3(d.gx3, truth, duration, seed);
+  return emulators::generate_gx3(d.config<emulators::Gx3Config>(), truth, duration, seed);
 }
 
 std::vector<emulators::MeasurementFault>* faults(DeviceSpec& d) {
-  return &d.gx3.measurement_faults;
+  return &d.config<emulators::Gx3Config>().measurement_faults;
 }
 
 }  // namespace
@@ -119,7 +119,6 @@ std::vector<emulators::MeasurementFault>* faults(DeviceSpec& d) {
 const DeviceKind& gx3_kind() {
   static const DeviceKind kind{
       .name = "microstrain-gx3-25",
-      .type = Type::kMicrostrainGx3,
       .link = Link::kStream,
       .baud = 115200,
       .rate_hz = 100.0,

@@ -13,7 +13,6 @@ namespace nav::bench::detail {
 namespace {
 
 using namespace std::chrono_literals;
-using Type = DeviceSpec::Type;
 using Link = DeviceKind::Link;
 using Q = emulators::Quantity;
 using MK = emulators::MeasurementFault::Kind;
@@ -53,12 +52,13 @@ void read_keller(const MapReader& m, emulators::KellerConfig& c) {
 }
 
 std::size_t read(const DeviceReadContext& c, DeviceSpec& d) {
-  read_keller(c.m, d.keller);
+  auto& cfg = d.settings.emplace<emulators::KellerConfig>();
+  read_keller(c.m, cfg);
   return 0;  // polled: nothing is sent unasked, so there is no stream to fit on the line
 }
 
 std::vector<emulators::MeasurementFault>* faults(DeviceSpec& d) {
-  return &d.keller.measurement_faults;
+  return &d.config<emulators::KellerConfig>().measurement_faults;
 }
 
 }  // namespace
@@ -66,7 +66,6 @@ std::vector<emulators::MeasurementFault>* faults(DeviceSpec& d) {
 const DeviceKind& keller_kind() {
   static const DeviceKind kind{
       .name = "keller-rs485",
-      .type = Type::kKeller,
       .link = Link::kPolled,
       .baud = 9600,
       .rate_hz = 0.0,  // polled: the DUT sets the rate

@@ -17,7 +17,6 @@ namespace nav::bench::detail {
 namespace {
 
 using namespace std::chrono_literals;
-using Type = DeviceSpec::Type;
 using Link = DeviceKind::Link;
 using Q = emulators::Quantity;
 using MK = emulators::MeasurementFault::Kind;
@@ -94,19 +93,20 @@ void read_n2k(const MapReader& m, const Scenario& s, emulators::Nmea2000Config& 
 }
 
 std::size_t read(const DeviceReadContext& c, DeviceSpec& d) {
-  d.n2k.latency = c.latency;
-  read_n2k(c.m, c.s, d.n2k);
+  auto& cfg = d.settings.emplace<emulators::Nmea2000Config>();
+  cfg.latency = c.latency;
+  read_n2k(c.m, c.s, cfg);
   return 0;  // on the CAN bus: the bus schedule fits the frames, no serial line
 }
 
 std::vector<emulators::CanWireFrame> frames(const DeviceSpec& d,
-                                            const emulators::TruthTrajectory& truth,
+                                            const emulators::Truth& truth,
                                             Duration duration, std::uint64_t seed) {
-  return emulators::generate_nmea2000(d.n2k, truth, duration, seed);
+  return emulators::generate_nmea2000(d.config<emulators::Nmea2000Config>(), truth, duration, seed);
 }
 
 std::vector<emulators::MeasurementFault>* faults(DeviceSpec& d) {
-  return &d.n2k.measurement_faults;
+  return &d.config<emulators::Nmea2000Config>().measurement_faults;
 }
 
 }  // namespace
@@ -114,7 +114,6 @@ std::vector<emulators::MeasurementFault>* faults(DeviceSpec& d) {
 const DeviceKind& nmea2000_kind() {
   static const DeviceKind kind{
       .name = "nmea2000",
-      .type = Type::kNmea2000,
       .link = Link::kCan,
       .baud = 115200,  // unused: on the bus (DeviceSpec's default)
       .rate_hz = 0.0,  // per PGN

@@ -13,7 +13,6 @@ namespace nav::bench::detail {
 namespace {
 
 using namespace std::chrono_literals;
-using Type = DeviceSpec::Type;
 using Link = DeviceKind::Link;
 using Q = emulators::Quantity;
 using MK = emulators::MeasurementFault::Kind;
@@ -58,19 +57,20 @@ void read_usbl(const MapReader& m, emulators::UsblConfig& c) {
 }
 
 std::size_t read(const DeviceReadContext& c, DeviceSpec& d) {
-  d.usbl.rate_hz = c.rate_hz;
-  read_usbl(c.m, d.usbl);
+  auto& cfg = d.settings.emplace<emulators::UsblConfig>();
+  cfg.rate_hz = c.rate_hz;
+  read_usbl(c.m, cfg);
   return kUsblBytes;
 }
 
 std::vector<emulators::WireMessage> stream(const DeviceSpec& d,
-                                           const emulators::TruthTrajectory& truth,
+                                           const emulators::Truth& truth,
                                            Duration duration, std::uint64_t seed) {
-  return emulators::generate_usbl(d.usbl, truth, duration, seed);
+  return emulators::generate_usbl(d.config<emulators::UsblConfig>(), truth, duration, seed);
 }
 
 std::vector<emulators::MeasurementFault>* faults(DeviceSpec& d) {
-  return &d.usbl.measurement_faults;
+  return &d.config<emulators::UsblConfig>().measurement_faults;
 }
 
 }  // namespace
@@ -78,7 +78,6 @@ std::vector<emulators::MeasurementFault>* faults(DeviceSpec& d) {
 const DeviceKind& usbl_kind() {
   static const DeviceKind kind{
       .name = "evologics-usbl",
-      .type = Type::kEvologicsUsbl,
       .link = Link::kStream,
       .baud = 19200,
       .rate_hz = 1.0,

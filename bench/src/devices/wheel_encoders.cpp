@@ -21,6 +21,13 @@ namespace {
 
 using namespace std::chrono_literals;
 
+/// A `wheel-encoders` device's settings (DeviceSpec::settings).
+struct WheelEncoders {
+  emulators::WheelEncoderConfig drive;
+  std::string dbc_path;  ///< the DBC file, resolved (absolute or as written)
+  std::shared_ptr<const protocols::wheel_encoder::WheelEncoderCodec> codec;
+};
+
 /// detail::quoted for std::string (a non-template: preferred over std::quoted).
 std::string quoted(const std::string& s) { return detail::quoted(std::string_view(s)); }
 
@@ -29,7 +36,8 @@ std::string quoted(const std::string& s) { return detail::quoted(std::string_vie
 void read_wheels(const MapReader& m, const Scenario& s, Duration latency,
                  std::optional<double> rate_hz, DeviceSpec& d) {
   namespace fs = std::filesystem;
-  emulators::WheelEncoderConfig c;
+  auto& w = d.settings.emplace<WheelEncoders>();
+  emulators::WheelEncoderConfig& c = w.drive;
   c.latency = latency;
   c.rate_hz = rate_hz;
   const Field f = m.required("dbc");
@@ -43,8 +51,8 @@ void read_wheels(const MapReader& m, const Scenario& s, Duration latency,
     f.fail("DBC " + path.string() +
            " does not fit the wheel encoder codec: " + codec.error().detail);
   }
-  d.dbc_path = path.string();
-  d.wheel_codec =
+  w.dbc_path = path.string();
+  w.codec =
       std::make_shared<const protocols::wheel_encoder::WheelEncoderCodec>(std::move(*codec));
   if (auto v = m.optional("wheel_radius")) c.wheel_radius_m = read_length_positive(*v);
   if (auto v = m.optional("track")) c.track_width_m = read_length_positive(*v);
@@ -67,7 +75,6 @@ void read_wheels(const MapReader& m, const Scenario& s, Duration latency,
       c.speed_std_radps = x->quantity(Dimension::kAngularRate, Bound::kNonNegative);
     }
   }
-  d.wheels = std::make_shared<const emulators::WheelEncoderConfig>(c);
 }
 
 std::size_t read(const DeviceReadContext& c, DeviceSpec& d) {
@@ -77,9 +84,10 @@ std::size_t read(const DeviceReadContext& c, DeviceSpec& d) {
 }
 
 std::vector<emulators::CanWireFrame> frames(const DeviceSpec& d,
-                                            const emulators::TruthTrajectory& truth,
+                                            const emulators::Truth& truth,
                                             Duration duration, std::uint64_t seed) {
-  return emulators::generate_wheel_encoders(*d.wheels, *d.wheel_codec, truth, duration, seed);
+  const auto& w = d.config<WheelEncoders>();
+  return emulators::generate_wheel_encoders(w.drive, *w.codec, truth, duration, seed);
 }
 
 }  // namespace
@@ -87,7 +95,6 @@ std::vector<emulators::CanWireFrame> frames(const DeviceSpec& d,
 const DeviceKind& wheel_encoders_kind() {
   static const DeviceKind kind{
       .name = "wheel-encoders",
-      .type = DeviceSpec::Type::kWheelEncoders,
       .link = DeviceKind::Link::kCan,
       .baud = 115200,  // unused: on the bus (DeviceSpec's default)
       .rate_hz = 0.0,  // its DBC's message cycle unless `rate` is given

@@ -76,7 +76,7 @@ double attitude(const reports::AlignedSample& s) {
 
 }  // namespace
 
-TruthTable::TruthTable(const emulators::TruthTrajectory& truth, Duration duration, double rate_hz)
+TruthTable::TruthTable(const emulators::Truth& truth, Duration duration, double rate_hz)
     : dt_s_(1.0 / rate_hz) {
   const auto n = static_cast<std::size_t>(std::floor(to_seconds(duration) * rate_hz)) + 1;
   samples_.reserve(n + 1);

@@ -6,13 +6,14 @@
 #include <stdexcept>
 
 #include "devices/device_kind.hpp"
+#include "nav/emulators/mounted_truth.hpp"
 
 namespace nav::bench::detail {
 namespace {
 
 /// Every CAN device's frames on the bus schedule of the scenario's bus.
 void generate_can(const Scenario& sc, const std::vector<RunDevice>& devices,
-                  const std::vector<emulators::TruthTrajectory>& truths, DeviceStreams& out) {
+                  DeviceStreams& out) {
   out.can_times.assign(devices.size(), {});
   if (!sc.can) return;
   std::vector<CanFrameRequest> requests;
@@ -20,7 +21,7 @@ void generate_can(const Scenario& sc, const std::vector<RunDevice>& devices,
     const auto& dev = devices[d].spec;
     if (!dev.on_can()) continue;
     const auto seed = emulators::device_seed(sc.seed, dev.name);
-    for (auto& f : device_kind(dev.type).frames(dev, truths[devices[d].vehicle], sc.duration,
+    for (auto& f : device_kind(dev).frames(dev, *devices[d].truth, sc.duration,
                                                  seed)) {
       emulators::WireMessage m;
       m.t_valid = f.t_valid;
@@ -59,15 +60,23 @@ std::vector<RunDevice> run_devices(const Scenario& sc) {
   return out;
 }
 
-DeviceStreams generate_device_streams(const Scenario& sc, const std::vector<RunDevice>& devices,
-                                      const std::vector<emulators::TruthTrajectory>& truths) {
+void mount_devices(std::vector<RunDevice>& devices, const VehicleTruths& truths) {
+  for (auto& rd : devices) {
+    const auto& vehicle = truths.at(rd.vehicle);
+    rd.truth = rd.spec.mount.is_identity()
+                   ? vehicle
+                   : std::make_shared<const emulators::MountedTruth>(vehicle, rd.spec.mount);
+  }
+}
+
+DeviceStreams generate_device_streams(const Scenario& sc, const std::vector<RunDevice>& devices) {
   DeviceStreams out;
   for (const auto& rd : devices) {
     const auto& dev = rd.spec;
     // Only a device with a stream of its own: a polled device's faults act on its answers
     // (its emulator applies them), a modem and a CAN device carry no stream.
-    const DeviceKind& kind = device_kind(dev.type);
-    auto stream = kind.stream ? kind.stream(dev, truths[rd.vehicle], sc.duration,
+    const DeviceKind& kind = device_kind(dev);
+    auto stream = kind.stream ? kind.stream(dev, *rd.truth, sc.duration,
                                             emulators::device_seed(sc.seed, dev.name))
                               : std::vector<emulators::WireMessage>{};
     out.stream_faults.emplace_back();
@@ -78,7 +87,7 @@ DeviceStreams generate_device_streams(const Scenario& sc, const std::vector<RunD
     }
     out.serial.push_back(std::move(stream));
   }
-  generate_can(sc, devices, truths, out);
+  generate_can(sc, devices, out);
   return out;
 }
 

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -16,7 +17,7 @@
 #include "nav/emulators/device.hpp"
 #include "nav/emulators/faults.hpp"
 #include "nav/emulators/nmea2000_emulator.hpp"
-#include "nav/emulators/truth.hpp"
+#include "nav/emulators/truth_kind.hpp"
 
 namespace nav::bench::detail {
 
@@ -25,11 +26,20 @@ struct RunDevice {
   DeviceSpec spec;           ///< spec.name qualified for a peer's device ("<peer>.<name>")
   std::string local_name;    ///< the name in its vehicle ("{port:NAME}")
   std::uint32_t vehicle = 0; ///< 0 = primary, 1 + i = peers[i]
+  /// What it measures: its vehicle's truth, moved to its mount (mount_devices()).
+  std::shared_ptr<const emulators::Truth> truth;
 };
+
+/// Every vehicle's truth, primary first (RunDevice::vehicle indexes it).
+using VehicleTruths = std::vector<std::shared_ptr<const emulators::Truth>>;
 
 /// Every device of every vehicle, in run order: the primary's as in the file, then each
 /// peer's (captures, reports and seeds use this order and these names).
 std::vector<RunDevice> run_devices(const Scenario& sc);
+
+/// Gives every device its view of its vehicle's truth: the vehicle's own for a device at the
+/// vehicle's reference point and axes, else an emulators::MountedTruth.
+void mount_devices(std::vector<RunDevice>& devices, const VehicleTruths& truths);
 
 /// One CAN frame of the run: its device, the frame, its place on the bus and when the bench
 /// writes it to the interface (the slot end less the 3-bit interframe space: the frame's last
@@ -58,10 +68,9 @@ struct DeviceStreams {
   std::vector<std::vector<emulators::WireMessage>> can_times;
 };
 
-/// Every device's stream over [0, duration) from its vehicle's truth, each device's random
-/// engines seeded from the scenario seed and its (qualified) name.
-DeviceStreams generate_device_streams(const Scenario& sc, const std::vector<RunDevice>& devices,
-                                      const std::vector<emulators::TruthTrajectory>& truths);
+/// Every device's stream over [0, duration) from its truth (mount_devices()), each device's
+/// random engines seeded from the scenario seed and its (qualified) name.
+DeviceStreams generate_device_streams(const Scenario& sc, const std::vector<RunDevice>& devices);
 
 /// The measurement faults of a device, in its type's config.
 const std::vector<emulators::MeasurementFault>& measurement_faults(const DeviceSpec& dev);

@@ -12,13 +12,13 @@
 namespace nav::bench::detail {
 
 DutWatch::DutWatch(const Scenario& sc, const std::vector<RunDevice>& devices,
-                   const std::vector<emulators::TruthTrajectory>& truths,
+                   const VehicleTruths& truths,
                    const std::atomic<bool>& stop)
     : sc_(sc), devices_(devices), stop_(stop) {
   for (std::uint32_t v = 0; v <= sc.peers.size(); ++v) {
     Vehicle veh;
     veh.name = v == 0 ? sc.vehicle_name : sc.peers[v - 1].vehicle_name;
-    veh.truth = &truths[v];
+    veh.truth = truths[v].get();
     veh.dut = v == 0 ? &sc.dut : &sc.peers[v - 1].dut;
     veh.output_line = static_cast<std::uint32_t>(devices.size() + v);
     vehicles_.push_back(std::move(veh));
@@ -135,7 +135,7 @@ void DutWatch::finish(const std::vector<std::size_t>& suppressed) {
   for (auto& veh : vehicles_) {
     const bool alive = !crashed_ && !hung_ && veh.proc->running();
     if (alive) veh.status = "alive until the end (pid " + std::to_string(veh.proc->pid()) + ")";
-    const bool commanded = device_kind(devices_[veh.trigger_device].spec.type).commanded;
+    const bool commanded = device_kind(devices_[veh.trigger_device].spec).commanded;
     if (alive && veh.triggers_sent == 0 && !veh.triggers.empty() && commanded &&
         suppressed[veh.trigger_device] > 0) {
       veh.status += "; no solutions: it never sent the start command (C4 C1 29 CB) on '" +

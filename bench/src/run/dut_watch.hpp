@@ -29,7 +29,7 @@ namespace nav::bench::detail {
 /// One vehicle: the primary (index 0) or a peer (1 + its index in the scenario's peers).
 struct Vehicle {
   std::string name;
-  const emulators::TruthTrajectory* truth = nullptr;
+  const emulators::Truth* truth = nullptr;
   const DutSpec* dut = nullptr;
   std::uint32_t output_line = 0;     ///< index into the run's lines
   std::uint32_t trigger_device = 0;  ///< index into the run's devices
@@ -58,7 +58,7 @@ class DutWatch {
  public:
   /// stop: set by SIGINT/SIGTERM; every wait ends when it is.
   DutWatch(const Scenario& sc, const std::vector<RunDevice>& devices,
-           const std::vector<emulators::TruthTrajectory>& truths, const std::atomic<bool>& stop);
+           const VehicleTruths& truths, const std::atomic<bool>& stop);
 
   std::vector<Vehicle>& vehicles() { return vehicles_; }
   const std::vector<Vehicle>& vehicles() const { return vehicles_; }

@@ -16,7 +16,6 @@
 namespace nav::bench::detail {
 
 ReactiveDevices::ReactiveDevices(const Scenario& sc, const std::vector<RunDevice>& devices,
-                                 const std::vector<emulators::TruthTrajectory>& truths,
                                  std::vector<BenchLine>& lines, RunLog& log)
     : sc_(sc), devices_(devices), lines_(lines), log_(log) {
   const auto n = devices.size();
@@ -25,11 +24,11 @@ ReactiveDevices::ReactiveDevices(const Scenario& sc, const std::vector<RunDevice
   answered_.assign(n, {});
   for (std::uint32_t d = 0; d < n; ++d) {
     const auto& dev = devices[d].spec;
-    const DeviceKind& kind = device_kind(dev.type);
-    if (kind.commanded) streaming_[d] = dev.gx3_continuous ? 1 : 0;
+    const DeviceKind& kind = device_kind(dev);
+    if (kind.commanded) streaming_[d] = dev.config<emulators::Gx3Config>().continuous ? 1 : 0;
     if (kind.link == DeviceKind::Link::kPolled) {
       polled_.push_back(std::make_unique<emulators::KellerEmulator>(
-          dev.keller, truths[devices[d].vehicle], dev.faults,
+          dev.config<emulators::KellerConfig>(), *devices[d].truth, dev.faults,
           emulators::device_seed(sc.seed, dev.name),
           emulators::device_seed(sc.seed, dev.name + "/faults")));
       any_to_read_ = true;
@@ -45,8 +44,8 @@ ReactiveDevices::ReactiveDevices(const Scenario& sc, const std::vector<RunDevice
     }
   }
   if (!node_device_.empty()) {
-    std::vector<const emulators::TruthTrajectory*> nodes;
-    for (const auto d : node_device_) nodes.push_back(&truths[devices[d].vehicle]);
+    std::vector<const emulators::Truth*> nodes;
+    for (const auto d : node_device_) nodes.push_back(&*devices[d].truth);
     channel_ = std::make_unique<emulators::AcousticChannel>(sc.acoustic, std::move(nodes), sc.seed);
   }
 }
@@ -61,7 +60,7 @@ void ReactiveDevices::queue_answer(std::uint32_t d, emulators::WireMessage m) {
 void ReactiveDevices::poll_host_lines(Duration scenario_t) {
   namespace gx3 = protocols::gx3;
   for (std::uint32_t d = 0; d < devices_.size(); ++d) {
-    const bool commanded = device_kind(devices_[d].spec.type).commanded;
+    const bool commanded = device_kind(devices_[d].spec).commanded;
     if (!commanded && !polled_[d] && modem_node_[d] < 0) continue;
     std::array<std::uint8_t, 256> buf{};
     for (;;) {
@@ -113,7 +112,7 @@ void ReactiveDevices::handle_host_command(std::uint32_t d, const protocols::gx3:
   // Set continuous: the emulator streams 0xCB only; another reply command stops the 0xCB
   // stream (the real device would stream that reply instead) but is still acknowledged.
   streaming_[d] = c.reply_command == gx3::kCmdAccelRateMag ? 1 : 0;
-  const auto ticks = static_cast<std::int64_t>(devices_[d].spec.gx3.timer_start_ticks) +
+  const auto ticks = static_cast<std::int64_t>(devices_[d].spec.config<emulators::Gx3Config>().timer_start_ticks) +
                      std::llround(to_seconds(scenario_t) * gx3::kTicksPerSecond);
   const auto reply = gx3::encode(
       gx3::ContinuousModeReply{c.reply_command, static_cast<std::uint32_t>(ticks)});

@@ -28,8 +28,8 @@ namespace nav::bench::detail {
 class ReactiveDevices {
  public:
   /// lines: one per device (devices order); log: captures, tally and lateness it adds to.
+  /// The devices' truths (RunDevice::truth) place a Keller's sensor and each modem.
   ReactiveDevices(const Scenario& sc, const std::vector<RunDevice>& devices,
-                  const std::vector<emulators::TruthTrajectory>& truths,
                   std::vector<BenchLine>& lines, RunLog& log);
 
   /// Scenario time 0 on CLOCK_MONOTONIC (realtime captures and lateness are stamped from it).

@@ -13,7 +13,7 @@ namespace {
 reports::DeviceRow device_row(const RunFacts& f, std::uint32_t d) {
   const auto& dev = f.devices[d].spec;
   const auto& total = f.log.tally.total(d);
-  reports::DeviceRow row{dev.name, device_type_name(dev.type), f.lines[d].path(), dev.baud,
+  reports::DeviceRow row{dev.name, dev.type, f.lines[d].path(), dev.baud,
                          emulators::device_seed(f.sc.seed, dev.name), total.messages,
                          total.bytes, total.bytes_dropped, f.suppressed[d]};
   if (dev.on_can()) {

@@ -103,7 +103,7 @@ Result<std::vector<BenchLine>> open_lines(const Scenario& sc) {
 
 /// Runs the scenario into dir (its .partial folder): the captures, the DUT logs and
 /// scenario.yaml as it plays, then returns the record of the run.
-reports::RunRecord play_run(const Scenario& sc, const std::vector<emulators::TruthTrajectory>& truths,
+reports::RunRecord play_run(const Scenario& sc, const VehicleTruths& truths,
                             std::vector<BenchLine>& lines,
                             std::optional<transport::CanSocket> can_socket, const fs::path& dir,
                             bool quiet) {
@@ -111,10 +111,11 @@ reports::RunRecord play_run(const Scenario& sc, const std::vector<emulators::Tru
   id.started_utc = utc_now("%Y-%m-%dT%H:%M:%SZ");
   const Timestamp wall_start = monotonic_now();
   RunLog log;
-  const std::vector<RunDevice> devices = run_devices(sc);
-  const DeviceStreams streams = generate_device_streams(sc, devices, truths);
+  std::vector<RunDevice> devices = run_devices(sc);
+  mount_devices(devices, truths);
+  const DeviceStreams streams = generate_device_streams(sc, devices);
   log.tally.reset(devices.size(), sc.duration);
-  ReactiveDevices reactive(sc, devices, truths, lines, log);
+  ReactiveDevices reactive(sc, devices, lines, log);
   DutWatch watch(sc, devices, truths, g_interrupted);
   CanSender can(sc, streams.can, std::move(can_socket), devices.size(), log);
   SystemClock clock;
@@ -164,8 +165,8 @@ reports::RunRecord play_run(const Scenario& sc, const std::vector<emulators::Tru
 }
 
 /// Every vehicle's truth (primary first); an error about a segment points at it in the file.
-Result<std::vector<emulators::TruthTrajectory>> build_truths(const Scenario& sc) {
-  std::vector<emulators::TruthTrajectory> truths;
+Result<VehicleTruths> build_truths(const Scenario& sc) {
+  VehicleTruths truths;
   for (std::size_t v = 0; v <= sc.peers.size(); ++v) {
     const auto& spec = v == 0 ? sc.trajectory : sc.peers[v - 1].trajectory;
     const auto& locations = v == 0 ? sc.segment_locations : sc.peers[v - 1].segment_locations;
@@ -182,7 +183,7 @@ Result<std::vector<emulators::TruthTrajectory>> build_truths(const Scenario& sc)
       }
       return fail(ErrorCode::kInvalidArgument, where + ": " + detail);
     }
-    truths.push_back(std::move(*truth));
+    truths.push_back(std::make_shared<const emulators::TruthTrajectory>(std::move(*truth)));
   }
   return truths;
 }
@@ -225,7 +226,7 @@ int run_scenario(const RunOptions& o) {
     std::fprintf(stderr, "navbench: %s\n", built.error().detail.c_str());
     return kExitUsage;
   }
-  std::vector<emulators::TruthTrajectory> truths = std::move(*built);
+  VehicleTruths truths = std::move(*built);
   if (auto found = find_dut_programs(*sc); !found) {
     std::fprintf(stderr, "navbench: %s\n", found.error().detail.c_str());
     return kExitUsage;

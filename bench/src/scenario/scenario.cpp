@@ -117,10 +117,10 @@ void read_dut(const Field& f, Scenario& s) {
   }
   const Field trigger = m.required("trigger");
   dut.trigger = device_ref(trigger, s);
-  if (const DeviceSpec* d = find_device(s, dut.trigger); !device_kind(d->type).may_trigger) {
+  if (const DeviceSpec* d = find_device(s, dut.trigger); !device_kind(*d).may_trigger) {
     trigger.fail("the trigger must be a microstrain-gx3-25 (only its packets carry the timer "
                  "tag the DUT echoes); " + quoted(d->name) + " is a " +
-                 device_type_name(d->type));
+                 d->type);
   }
   if (auto v = m.optional("startup")) dut.startup = v->duration(Bound::kNonNegative);
   if (auto v = m.optional("watchdog")) dut.watchdog = v->duration(Bound::kPositive);
@@ -129,7 +129,7 @@ void read_dut(const Field& f, Scenario& s) {
 std::size_t count_modems(const std::vector<DeviceSpec>& devices) {
   return static_cast<std::size_t>(
       std::count_if(devices.begin(), devices.end(), [](const DeviceSpec& d) {
-        return device_kind(d.type).link == DeviceKind::Link::kChannel;
+        return device_kind(d).link == DeviceKind::Link::kChannel;
       }));
 }
 

@@ -4,6 +4,7 @@
 // is read by its kind (bench/src/devices/).
 #include "scenario/scenario_devices.hpp"
 
+#include "devices/device_keys.hpp"
 #include "devices/device_kind.hpp"
 
 #include <algorithm>
@@ -77,7 +78,7 @@ void read_fault(const Field& item, Duration run, DeviceSpec& d) {
     for (const auto& [name, k] : stream_kinds) kinds.push_back({name, AnyFaultKind{false, k, {}}});
   }
   std::vector<MK> measurement_kinds{MK::kWrong};
-  for (const MK k : device_kind(d.type).special_faults) measurement_kinds.push_back(k);
+  for (const MK k : device_kind(d).special_faults) measurement_kinds.push_back(k);
   for (const MK k : measurement_kinds) {
     kinds.push_back({emulators::measurement_fault_name(k), AnyFaultKind{true, {}, k}});
   }
@@ -92,7 +93,7 @@ void read_fault(const Field& item, Duration run, DeviceSpec& d) {
     if (d.on_can()) {
       for (const auto& [name, k] : stream_kinds) {
         if (t == name) {
-          kind_field->fail("expected " + expected + " (for type " + device_type_name(d.type) +
+          kind_field->fail("expected " + expected + " (for type " + d.type +
                            "), got " + quoted(t) +
                            ": CAN devices take measurement faults only (CAN frame faults are "
                            "not supported yet)");
@@ -106,7 +107,7 @@ void read_fault(const Field& item, Duration run, DeviceSpec& d) {
       if (t == emulators::measurement_fault_name(k) &&
           std::find(measurement_kinds.begin(), measurement_kinds.end(), k) ==
               measurement_kinds.end()) {
-        kind_field->fail("expected " + expected + " (for type " + device_type_name(d.type) +
+        kind_field->fail("expected " + expected + " (for type " + d.type +
                          "), got " + quoted(t) + ", a fault of type " + owner + " only");
       }
     }
@@ -167,18 +168,18 @@ void read_fault(const Field& item, Duration run, DeviceSpec& d) {
       case MK::kWrong: {
         const Field q = m.required("quantity");
         std::vector<std::string> names;
-        for (const auto v : device_kind(d.type).wrong_quantities) names.push_back(emulators::quantity_name(v));
+        for (const auto v : device_kind(d).wrong_quantities) names.push_back(emulators::quantity_name(v));
         const std::string expected = "one of " + join(names);
         const std::string t = q.text(expected);
         bool found = false;
-        for (const auto v : device_kind(d.type).wrong_quantities) {
+        for (const auto v : device_kind(d).wrong_quantities) {
           if (t == emulators::quantity_name(v)) {
             f.quantity = v;
             found = true;
           }
         }
         if (!found) {
-          q.fail("expected " + expected + " (for type " + device_type_name(d.type) + "), got " +
+          q.fail("expected " + expected + " (for type " + d.type + "), got " +
                  quoted(t));
         }
         if (!m.has("bias") && !m.has("scale")) {
@@ -206,7 +207,7 @@ void read_fault(const Field& item, Duration run, DeviceSpec& d) {
         }
         break;
     }
-    device_kind(d.type).measurement_faults(d)->push_back(f);
+    device_kind(d).measurement_faults(d)->push_back(f);
     return;
   }
 
@@ -252,11 +253,15 @@ DeviceSpec read_device(const Field& item, const Scenario& s) {
   }
   const DeviceKind& kind = *type_field->choice(types);
   DeviceSpec d;
-  d.type = kind.type;
-  const MapReader m(item, kind.keys);
+  d.type = kind.name;
+  // Every kind's own keys, and `mount`, which every device has (read here).
+  std::vector<std::string> keys = kind.keys;
+  keys.emplace_back("mount");
+  const MapReader m(item, keys);
 
   d.name = m.optional("name") ? m.required("name").identifier() : type_field->node().Scalar();
   if (auto v = m.optional("port")) d.port = v->port();
+  if (auto v = m.optional("mount")) d.mount = read_mount(*v);
   d.baud = kind.baud;
   double rate_hz = kind.rate_hz;
   Duration latency = kind.latency;

@@ -14,6 +14,12 @@
 #include <string>
 #include <vector>
 
+#include "nav/emulators/dvl_emulator.hpp"
+#include "nav/emulators/ebimu_emulator.hpp"
+#include "nav/emulators/keller_emulator.hpp"
+#include "nav/emulators/nmea2000_emulator.hpp"
+#include "nav/emulators/usbl_emulator.hpp"
+
 namespace nav::bench {
 namespace {
 
@@ -97,34 +103,34 @@ TEST(LoadScenario, SmokeScenarioInSi) {
   ASSERT_EQ(s->devices.size(), 2u);
   const DeviceSpec& ahrs = s->devices[0];
   EXPECT_EQ(ahrs.name, "ahrs");
-  EXPECT_EQ(ahrs.type, DeviceSpec::Type::kMicrostrainGx3);
+  EXPECT_EQ(ahrs.type, "microstrain-gx3-25");
   EXPECT_EQ(ahrs.port, "pty");
   EXPECT_EQ(ahrs.baud, 115200);
-  EXPECT_EQ(ahrs.gx3.rate_hz, 100.0);
-  EXPECT_EQ(ahrs.gx3.latency, 0ns);
-  EXPECT_NEAR(ahrs.gx3.accel.random.white_std, 0.5 * kMg, 1e-15);
-  EXPECT_NEAR(ahrs.gx3.accel.random.bias, 2 * kMg, 1e-15);
-  EXPECT_EQ(ahrs.gx3.accel.random.bias_walk_std, 0.0);
-  EXPECT_NEAR(ahrs.gx3.gyro.random.white_std, 0.03 * kDeg, 1e-15);
-  EXPECT_NEAR(ahrs.gx3.gyro.random.bias, 0.05 * kDeg, 1e-15);
-  EXPECT_NEAR(ahrs.gx3.mag.random.white_std, 0.2e-6, 1e-18);
-  EXPECT_NEAR(ahrs.gx3.mag_field_n.x(), 20e-6, 1e-18);
-  EXPECT_NEAR(ahrs.gx3.mag_field_n.z(), 40e-6, 1e-18);
+  EXPECT_EQ(ahrs.config<emulators::Gx3Config>().rate_hz, 100.0);
+  EXPECT_EQ(ahrs.config<emulators::Gx3Config>().latency, 0ns);
+  EXPECT_NEAR(ahrs.config<emulators::Gx3Config>().accel.random.white_std, 0.5 * kMg, 1e-15);
+  EXPECT_NEAR(ahrs.config<emulators::Gx3Config>().accel.random.bias, 2 * kMg, 1e-15);
+  EXPECT_EQ(ahrs.config<emulators::Gx3Config>().accel.random.bias_walk_std, 0.0);
+  EXPECT_NEAR(ahrs.config<emulators::Gx3Config>().gyro.random.white_std, 0.03 * kDeg, 1e-15);
+  EXPECT_NEAR(ahrs.config<emulators::Gx3Config>().gyro.random.bias, 0.05 * kDeg, 1e-15);
+  EXPECT_NEAR(ahrs.config<emulators::Gx3Config>().mag.random.white_std, 0.2e-6, 1e-18);
+  EXPECT_NEAR(ahrs.config<emulators::Gx3Config>().mag_field_n.x(), 20e-6, 1e-18);
+  EXPECT_NEAR(ahrs.config<emulators::Gx3Config>().mag_field_n.z(), 40e-6, 1e-18);
 
   const DeviceSpec& gps = s->devices[1];
   EXPECT_EQ(gps.name, "gps");
-  EXPECT_EQ(gps.type, DeviceSpec::Type::kNmeaGps);
+  EXPECT_EQ(gps.type, "nmea0183-gps");
   EXPECT_EQ(gps.baud, 9600);
-  EXPECT_EQ(gps.gps.rate_hz, 1.0);
-  EXPECT_EQ(gps.gps.latency, 50ms);
-  EXPECT_DOUBLE_EQ(gps.gps.horizontal_std_m, 0.5);
-  EXPECT_DOUBLE_EQ(gps.gps.vertical_std_m, 1.0);
-  EXPECT_DOUBLE_EQ(gps.gps.velocity_std_mps, 0.05);
-  EXPECT_EQ(gps.gps.talker, "GP");
-  EXPECT_DOUBLE_EQ(gps.gps.utc_start_unix_s, 1780315200.0);
-  EXPECT_EQ(gps.gps.datum_lat_rad, s->datum.lat_rad);
-  EXPECT_EQ(gps.gps.datum_lon_rad, s->datum.lon_rad);
-  EXPECT_EQ(gps.gps.datum_alt_m, s->datum.alt_m);
+  EXPECT_EQ(gps.config<emulators::GpsConfig>().rate_hz, 1.0);
+  EXPECT_EQ(gps.config<emulators::GpsConfig>().latency, 50ms);
+  EXPECT_DOUBLE_EQ(gps.config<emulators::GpsConfig>().horizontal_std_m, 0.5);
+  EXPECT_DOUBLE_EQ(gps.config<emulators::GpsConfig>().vertical_std_m, 1.0);
+  EXPECT_DOUBLE_EQ(gps.config<emulators::GpsConfig>().velocity_std_mps, 0.05);
+  EXPECT_EQ(gps.config<emulators::GpsConfig>().talker, "GP");
+  EXPECT_DOUBLE_EQ(gps.config<emulators::GpsConfig>().utc_start_unix_s, 1780315200.0);
+  EXPECT_EQ(gps.config<emulators::GpsConfig>().datum_lat_rad, s->datum.lat_rad);
+  EXPECT_EQ(gps.config<emulators::GpsConfig>().datum_lon_rad, s->datum.lon_rad);
+  EXPECT_EQ(gps.config<emulators::GpsConfig>().datum_alt_m, s->datum.alt_m);
 
   const std::vector<std::string> argv{"navd",       "--ahrs",   "{port:ahrs}",  "--gps",
                                       "{port:gps}", "--output", "{port:output}"};
@@ -166,11 +172,11 @@ TEST(LoadScenario, DefaultsOfAMinimalScenario) {
   const DeviceSpec& d = s->devices.at(0);
   EXPECT_EQ(d.port, "pty");
   EXPECT_EQ(d.baud, 115200);
-  EXPECT_EQ(d.gx3.rate_hz, 100.0);
-  EXPECT_EQ(d.gx3.latency, 0ns);
-  EXPECT_EQ(d.gx3.timer_start_ticks, 0u);
-  EXPECT_FALSE(d.gx3_continuous);  // waits for the DUT's start command, like the device
-  EXPECT_EQ(d.gx3.accel.random.white_std, 0.0);
+  EXPECT_EQ(d.config<emulators::Gx3Config>().rate_hz, 100.0);
+  EXPECT_EQ(d.config<emulators::Gx3Config>().latency, 0ns);
+  EXPECT_EQ(d.config<emulators::Gx3Config>().timer_start_ticks, 0u);
+  EXPECT_FALSE(d.config<emulators::Gx3Config>().continuous);  // waits for the DUT's start command, like the device
+  EXPECT_EQ(d.config<emulators::Gx3Config>().accel.random.white_std, 0.0);
   EXPECT_EQ(s->dut.output_port, "pty");
   EXPECT_EQ(s->dut.startup, 500ms);
   EXPECT_EQ(s->dut.watchdog, 2s);
@@ -186,7 +192,7 @@ TEST(LoadScenario, Gx3ContinuousKey) {
     text.insert(at, "continuous: " + value + ", ");
     const auto s = load_scenario(write_temp("gx3-continuous.yaml", text));
     ASSERT_TRUE(s) << s.error().detail;
-    EXPECT_EQ(s->devices.at(0).gx3_continuous, expected) << value;
+    EXPECT_EQ(s->devices.at(0).config<emulators::Gx3Config>().continuous, expected) << value;
   }
   std::string text = kMinimal;
   text.insert(text.find("type: microstrain-gx3-25"), "continuous: maybe, ");
@@ -244,24 +250,24 @@ TEST(LoadScenario, OptionalFieldsAndAlternativeSpellings) {
   EXPECT_NEAR(seg[4].length_m, 20.0 * kPi / 4, 1e-12);
 
   const DeviceSpec& ahrs = s->devices.at(0);
-  EXPECT_EQ(ahrs.gx3.timer_start_ticks, 4294967295u);
-  EXPECT_EQ(ahrs.gx3.rate_hz, 50.0);
+  EXPECT_EQ(ahrs.config<emulators::Gx3Config>().timer_start_ticks, 4294967295u);
+  EXPECT_EQ(ahrs.config<emulators::Gx3Config>().rate_hz, 50.0);
   EXPECT_EQ(ahrs.baud, 38400);
-  EXPECT_EQ(ahrs.gx3.latency, 2ms);
-  EXPECT_NEAR(ahrs.gx3.accel.random.bias_walk_std, 0.05 * kMg, 1e-15);
-  EXPECT_NEAR(ahrs.gx3.gyro.random.bias_walk_std, 0.001 * kDeg, 1e-18);
-  EXPECT_NEAR(ahrs.gx3.gyro.random.bias, -0.1 * kDeg, 1e-15);
-  EXPECT_NEAR(ahrs.gx3.mag.random.white_std, 2e-7, 1e-20);
-  EXPECT_NEAR(ahrs.gx3.mag.random.bias_walk_std, 1e-8, 1e-20);
+  EXPECT_EQ(ahrs.config<emulators::Gx3Config>().latency, 2ms);
+  EXPECT_NEAR(ahrs.config<emulators::Gx3Config>().accel.random.bias_walk_std, 0.05 * kMg, 1e-15);
+  EXPECT_NEAR(ahrs.config<emulators::Gx3Config>().gyro.random.bias_walk_std, 0.001 * kDeg, 1e-18);
+  EXPECT_NEAR(ahrs.config<emulators::Gx3Config>().gyro.random.bias, -0.1 * kDeg, 1e-15);
+  EXPECT_NEAR(ahrs.config<emulators::Gx3Config>().mag.random.white_std, 2e-7, 1e-20);
+  EXPECT_NEAR(ahrs.config<emulators::Gx3Config>().mag.random.bias_walk_std, 1e-8, 1e-20);
   const DeviceSpec& gps = s->devices.at(1);
   EXPECT_EQ(gps.name, "nmea0183-gps");  // the type names an unnamed device
   EXPECT_EQ(gps.port, "/dev/ttyUSB1");
-  EXPECT_EQ(gps.gps.rate_hz, 5.0);
-  EXPECT_EQ(gps.gps.latency, 50ms);
-  EXPECT_EQ(gps.gps.talker, "GN");
-  EXPECT_DOUBLE_EQ(gps.gps.utc_start_unix_s, 1709251199.5);
-  EXPECT_DOUBLE_EQ(gps.gps.max_depth_for_fix_m, 1.0);
-  EXPECT_DOUBLE_EQ(gps.gps.datum_alt_m, 12.0);
+  EXPECT_EQ(gps.config<emulators::GpsConfig>().rate_hz, 5.0);
+  EXPECT_EQ(gps.config<emulators::GpsConfig>().latency, 50ms);
+  EXPECT_EQ(gps.config<emulators::GpsConfig>().talker, "GN");
+  EXPECT_DOUBLE_EQ(gps.config<emulators::GpsConfig>().utc_start_unix_s, 1709251199.5);
+  EXPECT_DOUBLE_EQ(gps.config<emulators::GpsConfig>().max_depth_for_fix_m, 1.0);
+  EXPECT_DOUBLE_EQ(gps.config<emulators::GpsConfig>().datum_alt_m, 12.0);
 
   ASSERT_EQ(s->checks.size(), 3u);
   EXPECT_DOUBLE_EQ(s->checks[0].max_per_distance, 0.02);
@@ -324,9 +330,9 @@ TEST(LoadScenario, NewDeviceTypesAndFaultsInSi) {
   EXPECT_TRUE(s->devices[0].faults.empty());
 
   const DeviceSpec& gps = s->devices[1];
-  EXPECT_TRUE(gps.gps.vtg && gps.gps.hdt && gps.gps.zda);
-  EXPECT_EQ(gps.gps.reacquisition, 5s);
-  EXPECT_NEAR(gps.gps.heading_std_rad, 0.5 * kDeg, 1e-15);
+  EXPECT_TRUE(gps.config<emulators::GpsConfig>().vtg && gps.config<emulators::GpsConfig>().hdt && gps.config<emulators::GpsConfig>().zda);
+  EXPECT_EQ(gps.config<emulators::GpsConfig>().reacquisition, 5s);
+  EXPECT_NEAR(gps.config<emulators::GpsConfig>().heading_std_rad, 0.5 * kDeg, 1e-15);
   using FK = emulators::FaultSpec::Kind;
   ASSERT_EQ(gps.faults.size(), 5u);
   EXPECT_EQ(gps.faults[0].kind, FK::kChecksum);
@@ -344,64 +350,61 @@ TEST(LoadScenario, NewDeviceTypesAndFaultsInSi) {
   EXPECT_DOUBLE_EQ(gps.faults[4].probability, 0.3);
 
   const DeviceSpec& dvl1 = s->devices[2];  // defaults
-  EXPECT_EQ(dvl1.type, DeviceSpec::Type::kDvl);
-  EXPECT_EQ(dvl1.dvl.protocol, emulators::DvlProtocol::kNavQuestNq1);
+  EXPECT_EQ(dvl1.type, "dvl");
+  EXPECT_EQ(dvl1.config<emulators::DvlConfig>().protocol, emulators::DvlProtocol::kNavQuestNq1);
   EXPECT_EQ(dvl1.baud, 115200);
-  EXPECT_EQ(dvl1.dvl.rate_hz, 5.0);
-  EXPECT_EQ(dvl1.dvl.latency, 0ns);
-  EXPECT_EQ(dvl1.dvl.seabed_depth_m, 15.0);
-  EXPECT_EQ(dvl1.dvl.max_altitude_m, 50.0);
+  EXPECT_EQ(dvl1.config<emulators::DvlConfig>().rate_hz, 5.0);
+  EXPECT_EQ(dvl1.config<emulators::DvlConfig>().latency, 0ns);
+  EXPECT_EQ(dvl1.config<emulators::DvlConfig>().seabed_depth_m, 15.0);
+  EXPECT_EQ(dvl1.config<emulators::DvlConfig>().max_altitude_m, 50.0);
   const DeviceSpec& dvl2 = s->devices[3];
-  EXPECT_EQ(dvl2.dvl.protocol, emulators::DvlProtocol::kRdiPd6);
-  EXPECT_EQ(dvl2.dvl.rate_hz, 8.0);
-  EXPECT_EQ(dvl2.dvl.latency, 20ms);
-  EXPECT_NEAR(dvl2.dvl.beam_angle_rad, 30 * kDeg, 1e-15);
-  EXPECT_EQ(dvl2.dvl.max_altitude_m, 80.0);
-  EXPECT_EQ(dvl2.dvl.blanking_m, 0.5);
-  EXPECT_NEAR(dvl2.dvl.velocity_std_mps, 0.002, 1e-15);
-  EXPECT_DOUBLE_EQ(dvl2.dvl.scale_factor, -0.005);
-  EXPECT_DOUBLE_EQ(dvl2.dvl.beam_dropout_probability, 0.1);
-  EXPECT_EQ(dvl2.dvl.sound_speed_mps, 1480.0);
+  EXPECT_EQ(dvl2.config<emulators::DvlConfig>().protocol, emulators::DvlProtocol::kRdiPd6);
+  EXPECT_EQ(dvl2.config<emulators::DvlConfig>().rate_hz, 8.0);
+  EXPECT_EQ(dvl2.config<emulators::DvlConfig>().latency, 20ms);
+  EXPECT_NEAR(dvl2.config<emulators::DvlConfig>().beam_angle_rad, 30 * kDeg, 1e-15);
+  EXPECT_EQ(dvl2.config<emulators::DvlConfig>().max_altitude_m, 80.0);
+  EXPECT_EQ(dvl2.config<emulators::DvlConfig>().blanking_m, 0.5);
+  EXPECT_NEAR(dvl2.config<emulators::DvlConfig>().velocity_std_mps, 0.002, 1e-15);
+  EXPECT_DOUBLE_EQ(dvl2.config<emulators::DvlConfig>().scale_factor, -0.005);
+  EXPECT_DOUBLE_EQ(dvl2.config<emulators::DvlConfig>().beam_dropout_probability, 0.1);
+  EXPECT_EQ(dvl2.config<emulators::DvlConfig>().sound_speed_mps, 1480.0);
 
   const DeviceSpec& imu = s->devices[4];
-  EXPECT_EQ(imu.type, DeviceSpec::Type::kEbimu);
+  EXPECT_EQ(imu.type, "ebimu-9dof");
   EXPECT_EQ(imu.baud, 115200);
-  EXPECT_EQ(imu.ebimu.rate_hz, 50.0);
-  EXPECT_TRUE(imu.ebimu.quaternion);
-  EXPECT_TRUE(imu.ebimu.gyro);
-  EXPECT_FALSE(imu.ebimu.accel);
-  EXPECT_NEAR(imu.ebimu.attitude_std_rad, 0.1 * kDeg, 1e-15);
-  EXPECT_NEAR(imu.ebimu.attitude_bias_rad, -2 * kDeg, 1e-15);
-  EXPECT_NEAR(imu.ebimu.gyro_errors.random.white_std, 0.01 * kDeg, 1e-15);
-  EXPECT_NEAR(imu.ebimu.accel_errors.random.bias, kMg, 1e-15);
+  EXPECT_EQ(imu.config<emulators::EbimuConfig>().rate_hz, 50.0);
+  EXPECT_TRUE(imu.config<emulators::EbimuConfig>().quaternion);
+  EXPECT_TRUE(imu.config<emulators::EbimuConfig>().gyro);
+  EXPECT_FALSE(imu.config<emulators::EbimuConfig>().accel);
+  EXPECT_NEAR(imu.config<emulators::EbimuConfig>().attitude_std_rad, 0.1 * kDeg, 1e-15);
+  EXPECT_NEAR(imu.config<emulators::EbimuConfig>().attitude_bias_rad, -2 * kDeg, 1e-15);
+  EXPECT_NEAR(imu.config<emulators::EbimuConfig>().gyro_errors.random.white_std, 0.01 * kDeg, 1e-15);
+  EXPECT_NEAR(imu.config<emulators::EbimuConfig>().accel_errors.random.bias, kMg, 1e-15);
 
   const DeviceSpec& usbl = s->devices[5];
-  EXPECT_EQ(usbl.type, DeviceSpec::Type::kEvologicsUsbl);
+  EXPECT_EQ(usbl.type, "evologics-usbl");
   EXPECT_EQ(usbl.baud, 19200);
-  EXPECT_EQ(usbl.usbl.rate_hz, 1.0);
-  EXPECT_EQ(usbl.usbl.transceiver_p_n, Vec3(10.0, -5.0, 2.0));
-  EXPECT_NEAR(usbl.usbl.transceiver_yaw_rad, kPi / 2, 1e-15);
-  EXPECT_EQ(usbl.usbl.sound_speed_mps, 1490.0);
-  EXPECT_EQ(usbl.usbl.range_std_m, 0.1);
-  EXPECT_DOUBLE_EQ(usbl.usbl.range_std_fraction, 0.005);
-  EXPECT_NEAR(usbl.usbl.angle_std_rad, 0.5 * kDeg, 1e-15);
-  EXPECT_DOUBLE_EQ(usbl.usbl.outlier_probability, 0.05);
-  EXPECT_EQ(usbl.usbl.outlier_std_m, 10.0);
-  EXPECT_DOUBLE_EQ(usbl.usbl.dropout_probability, 0.1);
-  EXPECT_TRUE(usbl.usbl.angles_only);
-  EXPECT_EQ(usbl.usbl.processing, 150ms);
+  EXPECT_EQ(usbl.config<emulators::UsblConfig>().rate_hz, 1.0);
+  EXPECT_EQ(usbl.config<emulators::UsblConfig>().transceiver_p_n, Vec3(10.0, -5.0, 2.0));
+  EXPECT_NEAR(usbl.config<emulators::UsblConfig>().transceiver_yaw_rad, kPi / 2, 1e-15);
+  EXPECT_EQ(usbl.config<emulators::UsblConfig>().sound_speed_mps, 1490.0);
+  EXPECT_EQ(usbl.config<emulators::UsblConfig>().range_std_m, 0.1);
+  EXPECT_DOUBLE_EQ(usbl.config<emulators::UsblConfig>().range_std_fraction, 0.005);
+  EXPECT_NEAR(usbl.config<emulators::UsblConfig>().angle_std_rad, 0.5 * kDeg, 1e-15);
+  EXPECT_DOUBLE_EQ(usbl.config<emulators::UsblConfig>().outlier_probability, 0.05);
+  EXPECT_EQ(usbl.config<emulators::UsblConfig>().outlier_std_m, 10.0);
+  EXPECT_DOUBLE_EQ(usbl.config<emulators::UsblConfig>().dropout_probability, 0.1);
+  EXPECT_TRUE(usbl.config<emulators::UsblConfig>().angles_only);
+  EXPECT_EQ(usbl.config<emulators::UsblConfig>().processing, 150ms);
 
-  EXPECT_STREQ(device_type_name(DeviceSpec::Type::kDvl), "dvl");
-  EXPECT_STREQ(device_type_name(DeviceSpec::Type::kEbimu), "ebimu-9dof");
-  EXPECT_STREQ(device_type_name(DeviceSpec::Type::kEvologicsUsbl), "evologics-usbl");
-}
+      }
 
 TEST(LoadScenario, GpsDefaultsToGgaAndRmc) {
   std::string text = kMinimal;
   text.replace(text.find("dut:"), 0, "    - {name: gps, type: nmea0183-gps}\n");
   const auto s = load_scenario(write_temp("gps_default.yaml", text));
   ASSERT_TRUE(s) << s.error().detail;
-  const auto& g = s->devices.at(1).gps;
+  const auto& g = s->devices.at(1).config<emulators::GpsConfig>();
   EXPECT_FALSE(g.vtg || g.hdt || g.zda);
   EXPECT_EQ(g.reacquisition, 0s);
   EXPECT_EQ(g.heading_std_rad, 0.0);
@@ -442,35 +445,34 @@ TEST(LoadScenario, KellerKeysInSi) {
   ASSERT_EQ(s->devices.size(), 3u);
 
   const DeviceSpec& d0 = s->devices[1];  // defaults
-  EXPECT_EQ(d0.type, DeviceSpec::Type::kKeller);
+  EXPECT_EQ(d0.type, "keller-rs485");
   EXPECT_EQ(d0.baud, 9600);
   const emulators::KellerConfig def;
-  EXPECT_EQ(d0.keller.address, def.address);
-  EXPECT_EQ(d0.keller.density_kgpm3, def.density_kgpm3);
-  EXPECT_EQ(d0.keller.atmosphere_pa, def.atmosphere_pa);
-  EXPECT_EQ(d0.keller.gauge, def.gauge);
-  EXPECT_EQ(d0.keller.response_time, def.response_time);
-  EXPECT_EQ(d0.keller.serial_number, def.serial_number);
-  EXPECT_EQ(d0.keller.temperature_degc, def.temperature_degc);
-  EXPECT_EQ(d0.keller.pressure_std_pa, 0.0);
+  EXPECT_EQ(d0.config<emulators::KellerConfig>().address, def.address);
+  EXPECT_EQ(d0.config<emulators::KellerConfig>().density_kgpm3, def.density_kgpm3);
+  EXPECT_EQ(d0.config<emulators::KellerConfig>().atmosphere_pa, def.atmosphere_pa);
+  EXPECT_EQ(d0.config<emulators::KellerConfig>().gauge, def.gauge);
+  EXPECT_EQ(d0.config<emulators::KellerConfig>().response_time, def.response_time);
+  EXPECT_EQ(d0.config<emulators::KellerConfig>().serial_number, def.serial_number);
+  EXPECT_EQ(d0.config<emulators::KellerConfig>().temperature_degc, def.temperature_degc);
+  EXPECT_EQ(d0.config<emulators::KellerConfig>().pressure_std_pa, 0.0);
   EXPECT_TRUE(d0.faults.empty());
 
   const DeviceSpec& d1 = s->devices[2];
   EXPECT_EQ(d1.baud, 19200);
-  EXPECT_EQ(d1.keller.address, 250);
-  EXPECT_DOUBLE_EQ(d1.keller.density_kgpm3, 1027.5);
-  EXPECT_DOUBLE_EQ(d1.keller.atmosphere_pa, 101325.0);
-  EXPECT_TRUE(d1.keller.gauge);
-  EXPECT_EQ(d1.keller.response_time, 12ms);
-  EXPECT_EQ(d1.keller.serial_number, 4294967295u);
-  EXPECT_DOUBLE_EQ(d1.keller.temperature_degc, -1.5);
-  EXPECT_DOUBLE_EQ(d1.keller.pressure_std_pa, 20.0);
-  EXPECT_DOUBLE_EQ(d1.keller.pressure_bias_pa, -150.0);
-  EXPECT_DOUBLE_EQ(d1.keller.temperature_std_degc, 0.05);
+  EXPECT_EQ(d1.config<emulators::KellerConfig>().address, 250);
+  EXPECT_DOUBLE_EQ(d1.config<emulators::KellerConfig>().density_kgpm3, 1027.5);
+  EXPECT_DOUBLE_EQ(d1.config<emulators::KellerConfig>().atmosphere_pa, 101325.0);
+  EXPECT_TRUE(d1.config<emulators::KellerConfig>().gauge);
+  EXPECT_EQ(d1.config<emulators::KellerConfig>().response_time, 12ms);
+  EXPECT_EQ(d1.config<emulators::KellerConfig>().serial_number, 4294967295u);
+  EXPECT_DOUBLE_EQ(d1.config<emulators::KellerConfig>().temperature_degc, -1.5);
+  EXPECT_DOUBLE_EQ(d1.config<emulators::KellerConfig>().pressure_std_pa, 20.0);
+  EXPECT_DOUBLE_EQ(d1.config<emulators::KellerConfig>().pressure_bias_pa, -150.0);
+  EXPECT_DOUBLE_EQ(d1.config<emulators::KellerConfig>().temperature_std_degc, 0.05);
   ASSERT_EQ(d1.faults.size(), 1u);
   EXPECT_EQ(d1.faults[0].kind, emulators::FaultSpec::Kind::kIntermittent);
-  EXPECT_STREQ(device_type_name(DeviceSpec::Type::kKeller), "keller-rs485");
-}
+  }
 
 TEST(LoadScenario, KellerRefusals) {
   const std::vector<std::pair<std::string, std::string>> cases{
@@ -532,7 +534,7 @@ TEST(LoadScenario, TriadSensorErrorKeysInSi) {
       "         accel: {range: 2 g, quantization: 1 mg, bias: 2 mg}}");
   const auto s = load_scenario(write_temp("triad_keys.yaml", text));
   ASSERT_TRUE(s) << s.error().detail;
-  const auto& g = s->devices.at(0).gx3;
+  const auto& g = s->devices.at(0).config<emulators::Gx3Config>();
   EXPECT_NEAR(g.accel.random.white_std, 0.5 * kMg, 1e-15);
   EXPECT_EQ(g.accel.scale_factor, Vec3::Constant(3e-4));
   EXPECT_NEAR(g.accel.quantum, 0.1 * kMg, 1e-15);
@@ -556,7 +558,7 @@ TEST(LoadScenario, TriadSensorErrorKeysInSi) {
   W << 1.1, 0.05, 0.0, 0.05, 0.95, 0.0, 0.0, 0.0, 1.0;
   EXPECT_EQ(g.iron.soft_iron, W);
 
-  const auto& e = s->devices.at(1).ebimu;
+  const auto& e = s->devices.at(1).config<emulators::EbimuConfig>();
   EXPECT_EQ(e.gyro_errors.scale_factor, Vec3::Constant(-5e-4));
   EXPECT_NEAR(e.gyro_errors.misalignment_rad.z(), 0.5 * kDeg, 1e-15);
   EXPECT_TRUE(std::isinf(e.gyro_errors.saturation));
@@ -567,7 +569,7 @@ TEST(LoadScenario, TriadSensorErrorKeysInSi) {
   // Without the keys: no deterministic error terms, no iron.
   const auto m = load_scenario(write_temp("triad_defaults.yaml", kMinimal));
   ASSERT_TRUE(m) << m.error().detail;
-  const auto& d = m->devices.at(0).gx3;
+  const auto& d = m->devices.at(0).config<emulators::Gx3Config>();
   EXPECT_EQ(d.accel.scale_factor, Vec3::Zero());
   EXPECT_EQ(d.gyro.misalignment_rad, Vec3::Zero());
   EXPECT_TRUE(std::isinf(d.mag.saturation));
@@ -682,7 +684,7 @@ TEST(LoadScenario, MeasurementFaultsGoToTheirDeviceConfig) {
   const DeviceSpec& gx3 = s->devices[1];
   ASSERT_EQ(gx3.faults.size(), 1u);  // the stream fault stays in faults
   EXPECT_EQ(gx3.faults[0].kind, emulators::FaultSpec::Kind::kOff);
-  const auto& g = gx3.gx3.measurement_faults;
+  const auto& g = gx3.config<emulators::Gx3Config>().measurement_faults;
   ASSERT_EQ(g.size(), 3u);  // in file order
   EXPECT_EQ(g[0].kind, MK::kWrong);
   EXPECT_EQ(g[0].quantity, Q::kGyro);
@@ -700,7 +702,7 @@ TEST(LoadScenario, MeasurementFaultsGoToTheirDeviceConfig) {
   const DeviceSpec& gps = s->devices[2];
   ASSERT_EQ(gps.faults.size(), 1u);
   EXPECT_EQ(gps.faults[0].kind, emulators::FaultSpec::Kind::kChecksum);
-  const auto& p = gps.gps.measurement_faults;
+  const auto& p = gps.config<emulators::GpsConfig>().measurement_faults;
   ASSERT_EQ(p.size(), 2u);
   EXPECT_EQ(p[0].kind, MK::kGpsJump);
   EXPECT_EQ(p[0].jump_n_m, Vec3(30.0, 0.0, -2.0));  // east defaults to 0
@@ -710,19 +712,19 @@ TEST(LoadScenario, MeasurementFaultsGoToTheirDeviceConfig) {
 
   const DeviceSpec& dvl = s->devices[3];
   EXPECT_TRUE(dvl.faults.empty());
-  ASSERT_EQ(dvl.dvl.measurement_faults.size(), 2u);
-  EXPECT_EQ(dvl.dvl.measurement_faults[0].kind, MK::kBottomLockLoss);
-  EXPECT_EQ(dvl.dvl.measurement_faults[0].start, 2s);
-  EXPECT_EQ(dvl.dvl.measurement_faults[0].end, 4s);
-  EXPECT_EQ(dvl.dvl.measurement_faults[1].quantity, Q::kVelocity);
-  EXPECT_DOUBLE_EQ(dvl.dvl.measurement_faults[1].scale, 0.05);
+  ASSERT_EQ(dvl.config<emulators::DvlConfig>().measurement_faults.size(), 2u);
+  EXPECT_EQ(dvl.config<emulators::DvlConfig>().measurement_faults[0].kind, MK::kBottomLockLoss);
+  EXPECT_EQ(dvl.config<emulators::DvlConfig>().measurement_faults[0].start, 2s);
+  EXPECT_EQ(dvl.config<emulators::DvlConfig>().measurement_faults[0].end, 4s);
+  EXPECT_EQ(dvl.config<emulators::DvlConfig>().measurement_faults[1].quantity, Q::kVelocity);
+  EXPECT_DOUBLE_EQ(dvl.config<emulators::DvlConfig>().measurement_faults[1].scale, 0.05);
 
-  const auto& e = s->devices[4].ebimu.measurement_faults;
+  const auto& e = s->devices[4].config<emulators::EbimuConfig>().measurement_faults;
   ASSERT_EQ(e.size(), 1u);
   EXPECT_EQ(e[0].quantity, Q::kAttitude);
   EXPECT_NEAR(e[0].bias, 2.0 * kDeg, 1e-15);
 
-  const auto& u = s->devices[5].usbl.measurement_faults;
+  const auto& u = s->devices[5].config<emulators::UsblConfig>().measurement_faults;
   ASSERT_EQ(u.size(), 3u);
   EXPECT_EQ(u[0].kind, MK::kUsblOutliers);
   EXPECT_EQ(u[0].probability, 1.0);  // defaults
@@ -733,7 +735,7 @@ TEST(LoadScenario, MeasurementFaultsGoToTheirDeviceConfig) {
   EXPECT_DOUBLE_EQ(u[2].bias, -0.5);
   EXPECT_DOUBLE_EQ(u[2].scale, 0.01);
 
-  const auto& k = s->devices[6].keller.measurement_faults;
+  const auto& k = s->devices[6].config<emulators::KellerConfig>().measurement_faults;
   ASSERT_EQ(k.size(), 1u);
   EXPECT_EQ(k[0].quantity, Q::kPressure);
   EXPECT_DOUBLE_EQ(k[0].bias, 1000.0);

@@ -27,7 +27,7 @@ struct TriggerRecord {
 /// by slerp (attitude) in between.
 class TruthTable {
  public:
-  TruthTable(const emulators::TruthTrajectory& truth, Duration duration, double rate_hz);
+  TruthTable(const emulators::Truth& truth, Duration duration, double rate_hz);
   /// Truth at t within [0, duration].
   emulators::TruthSample at(double t_s) const;
   const std::vector<emulators::TruthSample>& samples() const { return samples_; }

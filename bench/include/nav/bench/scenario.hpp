@@ -2,6 +2,7 @@
 // A scenario as loaded and validated from YAML (docs/scenario.md has the schema).
 #pragma once
 
+#include <any>
 #include <array>
 #include <cstdint>
 #include <memory>
@@ -16,66 +17,40 @@
 #include "nav/common/time.hpp"
 #include "nav/emulators/acoustic_modem.hpp"
 #include "nav/emulators/device.hpp"
-#include "nav/emulators/dvl_emulator.hpp"
-#include "nav/emulators/ebimu_emulator.hpp"
 #include "nav/emulators/faults.hpp"
-#include "nav/emulators/keller_emulator.hpp"
-#include "nav/emulators/nmea2000_emulator.hpp"
-#include "nav/emulators/usbl_emulator.hpp"
+#include "nav/emulators/mounted_truth.hpp"
 #include "nav/emulators/truth.hpp"
-
-// Held by pointer: their headers bring <filesystem> (and with it std::quoted) into every
-// includer of this header.
-namespace nav::emulators {
-struct WheelEncoderConfig;
-}
-namespace nav::protocols::wheel_encoder {
-class WheelEncoderCodec;
-}
 
 namespace nav::bench {
 
 enum class TimeMode { kRealtime, kLockstep };
 
 /// One emulated device on its own serial line, or on the vehicle's CAN bus (vehicle.can).
+/// What a device of each `type` is, reads and sends is its kind's business
+/// (bench/src/devices/, one file per kind); the spec holds the kind's settings opaquely.
 struct DeviceSpec {
-  enum class Type {
-    kMicrostrainGx3, kNmeaGps, kDvl, kEbimu, kEvologicsUsbl, kKeller,
-    kAcousticModem,  ///< a node of the scenario's acoustic channel (no stream of its own)
-    kNmea2000,       ///< NMEA 2000 navigation device on the CAN bus
-    kWheelEncoders   ///< the two wheel encoders on the CAN bus, frames laid out by a DBC
-  };
   std::string name;     ///< unique in its vehicle; used in "{port:NAME}" and captures
-  Type type = Type::kMicrostrainGx3;
+  std::string type;     ///< the scenario `type`, naming its kind ("microstrain-gx3-25", ...)
   std::string port = "pty";  ///< "pty" or a device path such as /dev/ttyUSB0
   int baud = 115200;         ///< line rate [bit/s]; 8N1 = 10 bits per byte
-  emulators::Gx3Config gx3;  ///< when type == kMicrostrainGx3
-  /// GX3 only (`continuous`): stream from power-on. False (the default): stream only after
-  /// the DUT sent the set-continuous command `C4 C1 29 CB`, as the real device does.
-  bool gx3_continuous = false;
-  emulators::GpsConfig gps;  ///< when type == kNmeaGps (datum filled from the scenario)
-  emulators::DvlConfig dvl;  ///< when type == kDvl (seabed from vehicle.seabed)
-  emulators::EbimuConfig ebimu;  ///< when type == kEbimu
-  emulators::UsblConfig usbl;    ///< when type == kEvologicsUsbl
-  /// when type == kKeller: a polled device, it sends only answers to the DUT's requests
-  emulators::KellerConfig keller;
-  /// when type == kNmea2000 (datum and seabed filled from the scenario)
-  emulators::Nmea2000Config n2k;
-  /// when type == kWheelEncoders: the drive (wheel_encoder_emulator.hpp), and the codec
-  /// checked against the DBC at load time
-  std::shared_ptr<const emulators::WheelEncoderConfig> wheels;
-  std::string dbc_path;  ///< kWheelEncoders: the DBC file, resolved (absolute or as written)
-  std::shared_ptr<const protocols::wheel_encoder::WheelEncoderCodec> wheel_codec;
+  /// Where it sits on its vehicle (`mount`): it measures in its own axes at its own place
+  /// (emulators::MountedTruth). Identity by default: the vehicle's reference point and axes.
+  emulators::Mount mount;
+  /// The kind's settings, as its reader left them: emulators::Gx3Config for a GX3,
+  /// emulators::GpsConfig for a GPS, ... (each kind's file says which).
+  std::any settings;
+  /// The settings as the kind's type C (std::bad_any_cast if the device is of another kind).
+  template <class C>
+  C& config() { return std::any_cast<C&>(settings); }
+  template <class C>
+  const C& config() const { return std::any_cast<const C&>(settings); }
   /// A device on the vehicle's CAN bus: no serial line (port and baud unused). Its kind says
   /// (bench/src/devices/).
   bool on_can() const;
   /// Faults applied to the encoded stream (for a Keller: to its answers), in file order
-  /// (windows inside [0, duration)). Measurement faults live in the type's config.
+  /// (windows inside [0, duration)). Measurement faults live in the kind's settings.
   std::vector<emulators::FaultSpec> faults;
 };
-
-/// The scenario name of a device type ("microstrain-gx3-25", "dvl", ...).
-const char* device_type_name(DeviceSpec::Type t);
 
 /// The DUT and how to talk to it.
 struct DutSpec {

@@ -85,6 +85,7 @@
 #include <cstdint>
 #include <optional>
 #include <random>
+#include <type_traits>
 #include <vector>
 
 #include "nav/common/time.hpp"
@@ -134,10 +135,16 @@ struct LinkStats {
 /// The channel: one modem per node, each on a vehicle with a truth trajectory.
 class AcousticChannel {
  public:
-  /// nodes[i] is the trajectory of the vehicle carrying modem i (not owned; must outlive
-  /// the channel; non-null). Checks the config by NAV_ENSURE.
-  AcousticChannel(const AcousticModemConfig& cfg, std::vector<const TruthTrajectory*> nodes,
+  /// nodes[i] is the truth of modem i (its vehicle's, moved to its mount; not owned; must
+  /// outlive the channel; non-null). Checks the config by NAV_ENSURE.
+  AcousticChannel(const AcousticModemConfig& cfg, std::vector<const Truth*> nodes,
                   std::uint64_t seed);
+  /// The same, from the truths of one kind (e.g. TruthTrajectory).
+  template <class Kind>
+    requires std::is_base_of_v<Truth, Kind>
+  AcousticChannel(const AcousticModemConfig& cfg, const std::vector<const Kind*>& nodes,
+                  std::uint64_t seed)
+      : AcousticChannel(cfg, std::vector<const Truth*>(nodes.begin(), nodes.end()), seed) {}
 
   /// Serial bytes written by node's DUT, read at scenario time t [ns]. Closes the node's
   /// open packet first if packet_gap elapsed since its last byte (at last byte +
@@ -169,7 +176,7 @@ class AcousticChannel {
 
   /// Per-node transmitter state.
   struct Node {
-    const TruthTrajectory* truth = nullptr;
+    const Truth* truth = nullptr;
     std::mt19937_64 rng;            ///< loss draws of this node's packets
     protocols::Bytes open;          ///< bytes of the packet being assembled
     Duration last_byte{};           ///< time of the newest byte in `open` [ns]

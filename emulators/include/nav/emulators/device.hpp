@@ -151,10 +151,14 @@ struct Gx3Config {
                                        ///< acting before `mag` (MagnetometerErrorModel)
   Vec3 mag_field_n{2.0e-5, 0.0, 4.0e-5};  ///< Earth field at the datum, NED [T]
   std::vector<MeasurementFault> measurement_faults;  ///< `wrong` on kAccel, kGyro, kMag
+  /// Streams from power-on (the device's stored continuous mode). False: only once the DUT
+  /// sent the set-continuous command `C4 C1 29 CB`, as the device does by default. The
+  /// stream generator ignores it; the bench's command handshake reads it.
+  bool continuous = false;
 };
 
 /// Generates every 0xCB packet of [0, duration). trigger_tag = the timer field.
-std::vector<WireMessage> generate_gx3(const Gx3Config& cfg, const TruthTrajectory& truth,
+std::vector<WireMessage> generate_gx3(const Gx3Config& cfg, const Truth& truth,
                                       Duration duration, std::uint64_t seed);
 
 /// NMEA 0183 GPS receiver emitting GGA then RMC each epoch.
@@ -177,7 +181,7 @@ struct GpsConfig {
 };
 
 /// Generates every GGA+RMC pair of [0, duration) (one WireMessage per epoch, both sentences).
-std::vector<WireMessage> generate_gps(const GpsConfig& cfg, const TruthTrajectory& truth,
+std::vector<WireMessage> generate_gps(const GpsConfig& cfg, const Truth& truth,
                                       Duration duration, std::uint64_t seed);
 
 }  // namespace nav::emulators

@@ -34,7 +34,7 @@ struct DvlConfig {
 
 /// Every ping of [0, duration): velocity of the vehicle w.r.t. the seabed in the
 /// instrument frame (= body FRD, beams at 45 deg azimuth offsets), altitude, validity.
-std::vector<WireMessage> generate_dvl(const DvlConfig& cfg, const TruthTrajectory& truth,
+std::vector<WireMessage> generate_dvl(const DvlConfig& cfg, const Truth& truth,
                                       Duration duration, std::uint64_t seed);
 
 }  // namespace nav::emulators

@@ -24,7 +24,7 @@ struct EbimuConfig {
   std::vector<MeasurementFault> measurement_faults;  ///< `wrong` on kAttitude, kGyro, kAccel
 };
 
-std::vector<WireMessage> generate_ebimu(const EbimuConfig& cfg, const TruthTrajectory& truth,
+std::vector<WireMessage> generate_ebimu(const EbimuConfig& cfg, const Truth& truth,
                                         Duration duration, std::uint64_t seed);
 
 }  // namespace nav::emulators

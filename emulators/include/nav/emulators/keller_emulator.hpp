@@ -64,7 +64,7 @@ class KellerEmulator {
   /// answer before the window repeats, garbage, slow, delayed, intermittent, checksum,
   /// truncated, byte_loss), windows by the request's time. seed: the device's engine;
   /// fault_seed: the faults' engine.
-  KellerEmulator(const KellerConfig& cfg, const TruthTrajectory& truth,
+  KellerEmulator(const KellerConfig& cfg, const Truth& truth,
                  std::vector<FaultSpec> faults, std::uint64_t seed, std::uint64_t fault_seed);
 
   /// Bytes the master wrote, read at scenario time t (the request's end). Returns the
@@ -91,7 +91,7 @@ class KellerEmulator {
   bool apply_faults(WireMessage& m);
 
   KellerConfig cfg_;
-  const TruthTrajectory* truth_;
+  const Truth* truth_;
   std::vector<FaultSpec> faults_;
   std::vector<std::size_t> affected_;        ///< per fault: answers it changed
   std::vector<std::uint64_t> in_window_;     ///< per fault: answers seen inside its window

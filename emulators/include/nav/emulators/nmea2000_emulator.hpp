@@ -86,7 +86,7 @@ struct Nmea2000Config {
 /// order). Deterministic per seed; each PGN has its own engine, so enabling, disabling or
 /// re-rating one PGN leaves the values of the others unchanged.
 std::vector<CanWireFrame> generate_nmea2000(const Nmea2000Config& cfg,
-                                            const TruthTrajectory& truth, Duration duration,
+                                            const Truth& truth, Duration duration,
                                             std::uint64_t seed);
 
 }  // namespace nav::emulators

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
-// Truth trajectory generator: a vehicle following path segments with a speed profile.
+// The path-segments truth kind (truth_kind.hpp): a vehicle following path segments with a
+// speed profile.
 //
 // The horizontal path is a sequence of segments (straight, arc, turn in place, depth change).
 // Speed changes between segments follow a quintic "smootherstep" ramp limited by the
@@ -32,6 +33,7 @@
 #include "nav/common/frames.hpp"
 #include "nav/common/result.hpp"
 #include "nav/common/time.hpp"
+#include "nav/emulators/truth_kind.hpp"
 
 namespace nav::emulators {
 
@@ -66,20 +68,8 @@ struct TrajectorySpec {
   AttitudeMotion motion;
 };
 
-/// Truth at one instant.
-struct TruthSample {
-  Duration t{};                    ///< scenario time [ns]
-  Vec3 p_n = Vec3::Zero();         ///< position, NED [m]; depth = p_n.z()
-  Vec3 v_n = Vec3::Zero();         ///< velocity, NED [m/s]
-  Vec3 a_n = Vec3::Zero();         ///< acceleration, NED [m/s^2]
-  Quat q_nb = Quat::Identity();    ///< attitude body -> NED
-  Vec3 omega_b = Vec3::Zero();     ///< angular rate of b w.r.t. n, in b [rad/s]
-  Vec3 f_b = Vec3::Zero();         ///< specific force a - g, in b [m/s^2]
-  double distance_m = 0.0;         ///< horizontal distance travelled since start [m]
-};
-
-/// A built trajectory; cheap to evaluate at any time.
-class TruthTrajectory {
+/// The path-segments truth kind: a built trajectory, cheap to evaluate at any time.
+class TruthTrajectory final : public Truth {
  public:
   /// An empty trajectory: at rest at the origin, level, heading North, forever (the same as
   /// building a spec without segments).
@@ -92,7 +82,7 @@ class TruthTrajectory {
   Duration path_duration() const;
 
   /// Truth at scenario time t >= 0.
-  TruthSample at(Duration t) const;
+  TruthSample at(Duration t) const override;
 
  private:
   /// One segment as planned by build(). Times are scenario seconds, distances horizontal

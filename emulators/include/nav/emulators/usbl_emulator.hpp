@@ -31,7 +31,7 @@ struct UsblConfig {
 
 /// One line per fix; t_valid = reply arrival at the transceiver, t_send = t_valid +
 /// processing; the vehicle position used is the one at the transponder's reply time.
-std::vector<WireMessage> generate_usbl(const UsblConfig& cfg, const TruthTrajectory& truth,
+std::vector<WireMessage> generate_usbl(const UsblConfig& cfg, const Truth& truth,
                                        Duration duration, std::uint64_t seed);
 
 }  // namespace nav::emulators

@@ -44,6 +44,6 @@ struct WheelEncoderConfig {
 /// encoded through `codec`. Deterministic per seed; each wheel has its own engine.
 std::vector<CanWireFrame> generate_wheel_encoders(
     const WheelEncoderConfig& cfg, const protocols::wheel_encoder::WheelEncoderCodec& codec,
-    const TruthTrajectory& truth, Duration duration, std::uint64_t seed);
+    const Truth& truth, Duration duration, std::uint64_t seed);
 
 }  // namespace nav::emulators
