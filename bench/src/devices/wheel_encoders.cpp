@@ -82,6 +82,16 @@ std::vector<emulators::CanWireFrame> frames(const DeviceSpec& d,
   return emulators::generate_wheel_encoders(*d.wheels, *d.wheel_codec, truth, duration, seed);
 }
 
+/// A wheel frame that decodes: identifier * 256 + MsgCounter (the two wheels share their
+/// counter values, so the identifier tells them apart).
+std::optional<std::uint64_t> trigger_tag(const DeviceSpec& d, const protocols::can::Frame& f) {
+  if (f.rtr || f.error || !d.wheel_codec->wheel_of(f.id, f.extended)) return std::nullopt;
+  protocols::dbc::Frame df{f.id, f.extended, {f.data.begin(), f.data.begin() + f.length()}};
+  const auto sample = d.wheel_codec->decode(df);
+  if (!sample) return std::nullopt;
+  return std::uint64_t{f.id} * 256 + sample->counter;
+}
+
 }  // namespace
 
 const DeviceKind& wheel_encoders_kind() {
@@ -95,6 +105,8 @@ const DeviceKind& wheel_encoders_kind() {
       .keys = {"name", "type", "dbc", "wheel_radius", "track", "slip", "errors", "rate", "latency"},
       .read = &read,
       .frames = &frames,
+      .trigger = {"identifier * 256 + MsgCounter of each WheelEncoderLeft/Right frame",
+                  16, nullptr, &trigger_tag},
   };
   return kind;
 }
