@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -29,6 +30,26 @@ struct DeviceReadContext {
   const Scenario& s;        ///< the scenario read so far (datum, vehicle, duration, CAN bus)
   double rate_hz = 0.0;     ///< `rate`, or the kind's default
   Duration latency{0};      ///< `latency`, or the kind's default
+};
+
+/// How a DUT names a message of the kind when the device is `dut.trigger`: the
+/// `trigger_tag` it echoes in `$PNVBSOL` (docs/dut-contract.md §4). A kind without a rule
+/// cannot be the trigger. The bench matches a solution to the latest trigger it sent with
+/// that tag, so a tag that wraps (`wraps_after` messages) names its message only while
+/// the DUT answers within that many messages of the device.
+struct TriggerTagRule {
+  /// What the DUT echoes, in words (docs and errors).
+  const char* rule = nullptr;
+  /// Distinct tags before they repeat, counted in messages of one stream [-]; 0: they do
+  /// not repeat within any run.
+  std::uint64_t wraps_after = 0;
+  /// Serial kinds: the tag of message m, or none when it is no trigger (a fault destroyed
+  /// it). lines_before: the LF (0x0A) bytes the device's line carried before m.
+  std::optional<std::uint64_t> (*of_message)(const DeviceSpec& d, const emulators::WireMessage& m,
+                                             std::uint64_t lines_before) = nullptr;
+  /// CAN kinds: the tag of a frame of the device, or none for a frame that is no trigger.
+  std::optional<std::uint64_t> (*of_frame)(const DeviceSpec& d,
+                                           const protocols::can::Frame& f) = nullptr;
 };
 
 struct DeviceKind {
@@ -66,8 +87,10 @@ struct DeviceKind {
   std::vector<emulators::Quantity> wrong_quantities{};
   /// It streams only once the DUT sent it the set-continuous command (the GX3 handshake).
   bool commanded = false;
-  /// Its messages carry a time tag a DUT can name in its solutions: it may be the trigger.
-  bool may_trigger = false;
+  /// How a DUT names its messages as triggers; no rule: it cannot be `dut.trigger`.
+  TriggerTagRule trigger{};
+  /// Its messages carry a tag a DUT can name in its solutions: it may be the trigger.
+  bool may_trigger() const { return trigger.of_message != nullptr || trigger.of_frame != nullptr; }
 };
 
 /// Every kind, in the order the scenario documentation lists them.

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // Device kind `ebimu-9dof`: an E2BOX EBIMU-9DOF, ASCII '*' lines of Euler angles, rates and
 // accelerations.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -8,6 +9,7 @@
 #include "devices/device_kind.hpp"
 #include "nav/common/units.hpp"
 #include "nav/emulators/ebimu_emulator.hpp"
+#include "nav/protocols/ebimu.hpp"
 
 namespace nav::bench::detail {
 namespace {
@@ -67,6 +69,24 @@ std::vector<emulators::MeasurementFault>* faults(DeviceSpec& d) {
   return &d.config<emulators::EbimuConfig>().measurement_faults;
 }
 
+/// A line carries no time tag: it is named by its ordinal on the line, the number of LF bytes
+/// the line carried before its own LF (every LF counts, garbage and rejected lines included).
+/// Only a message that is one whole line of the device's output configuration is a trigger.
+std::optional<std::uint64_t> trigger_tag(const DeviceSpec& d, const emulators::WireMessage& m,
+                                         std::uint64_t lines_before) {
+  namespace eb = protocols::ebimu;
+  const eb::OutputConfig config{
+      d.config<emulators::EbimuConfig>().quaternion ? eb::Orientation::kQuaternion
+                                                    : eb::Orientation::kEuler,
+      d.config<emulators::EbimuConfig>().gyro, d.config<emulators::EbimuConfig>().accel};
+  const auto r = eb::parse_sample(m.bytes, config);
+  if (r.status != protocols::ParseStatus::kComplete || r.consumed != m.bytes.size()) {
+    return std::nullopt;
+  }
+  const auto lfs = static_cast<std::uint64_t>(std::count(m.bytes.begin(), m.bytes.end(), 0x0A));
+  return lines_before + lfs - 1;  // a complete line ends with its LF
+}
+
 }  // namespace
 
 const DeviceKind& ebimu_kind() {
@@ -82,6 +102,9 @@ const DeviceKind& ebimu_kind() {
       .stream = &stream,
       .measurement_faults = &faults,
       .wrong_quantities = {Q::kAttitude, Q::kGyro, Q::kAccel},
+      .trigger = {"the line's ordinal on its port: LF bytes received on it before the line's "
+                  "LF, from 0 (the line has no time tag)",
+                  0, &trigger_tag, nullptr},
   };
   return kind;
 }

@@ -114,6 +114,12 @@ std::vector<emulators::MeasurementFault>* faults(DeviceSpec& d) {
   return &d.config<emulators::Gx3Config>().measurement_faults;
 }
 
+/// The packet's timer field (bytes 37-40) as sent; none for a packet a fault damaged.
+std::optional<std::uint64_t> trigger_tag(const DeviceSpec&, const emulators::WireMessage& m,
+                                         std::uint64_t) {
+  return m.trigger_tag;
+}
+
 }  // namespace
 
 const DeviceKind& gx3_kind() {
@@ -130,7 +136,9 @@ const DeviceKind& gx3_kind() {
       .measurement_faults = &faults,
       .wrong_quantities = {Q::kAccel, Q::kGyro, Q::kMag},
       .commanded = true,
-      .may_trigger = true,
+      .trigger = {"the 0xCB packet's timer field (bytes 37-40), in decimal, as received "
+                  "(wraps at 2^32 ticks, 19 h at 100 Hz)",
+                  0, &trigger_tag, nullptr},
   };
   return kind;
 }

@@ -109,6 +109,27 @@ std::vector<emulators::MeasurementFault>* faults(DeviceSpec& d) {
   return &d.config<emulators::Nmea2000Config>().measurement_faults;
 }
 
+/// A single-frame PGN with a SID (byte 0) from the device's source address: PGN * 256 + SID.
+/// The SID ties the PGNs of one measurement instant together, so it needs the PGN beside it;
+/// 129025 (no SID) and the fast packet 129029 are no triggers.
+std::optional<std::uint64_t> trigger_tag(const DeviceSpec& d, const protocols::can::Frame& f) {
+  namespace n2k = protocols::n2k;
+  if (!f.extended || f.rtr || f.error || f.length() != 8) return std::nullopt;
+  const n2k::Header h = n2k::from_can_id(f.id);
+  if (h.source != d.config<emulators::Nmea2000Config>().source) return std::nullopt;
+  switch (h.pgn) {
+    case n2k::kPgnVesselHeading:
+    case n2k::kPgnRateOfTurn:
+    case n2k::kPgnAttitude:
+    case n2k::kPgnSpeedWater:
+    case n2k::kPgnWaterDepth:
+    case n2k::kPgnCogSogRapid:
+      return std::uint64_t{h.pgn} * 256 + f.data[0];
+    default:
+      return std::nullopt;
+  }
+}
+
 }  // namespace
 
 const DeviceKind& nmea2000_kind() {
@@ -125,6 +146,9 @@ const DeviceKind& nmea2000_kind() {
       .measurement_faults = &faults,
       .special_faults = {MK::kGpsJump},
       .wrong_quantities = {Q::kAttitude, Q::kGyro, Q::kVelocity, Q::kRange},
+      .trigger = {"PGN * 256 + SID (byte 0) of each single-frame PGN with a SID (127250, "
+                  "127251, 127257, 128259, 128267, 129026) from its source address",
+                  253, nullptr, &trigger_tag},
   };
   return kind;
 }

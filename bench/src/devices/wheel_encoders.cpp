@@ -12,6 +12,7 @@
 // After every header that uses detail::quoted in a template (see above).
 #include <filesystem>
 
+#include "devices/wheel_encoders.hpp"
 #include "nav/emulators/wheel_encoder_emulator.hpp"
 #include "nav/protocols/dbc.hpp"
 #include "nav/protocols/wheel_encoder.hpp"
@@ -20,13 +21,6 @@ namespace nav::bench::detail {
 namespace {
 
 using namespace std::chrono_literals;
-
-/// A `wheel-encoders` device's settings (DeviceSpec::settings).
-struct WheelEncoders {
-  emulators::WheelEncoderConfig drive;
-  std::string dbc_path;  ///< the DBC file, resolved (absolute or as written)
-  std::shared_ptr<const protocols::wheel_encoder::WheelEncoderCodec> codec;
-};
 
 /// detail::quoted for std::string (a non-template: preferred over std::quoted).
 std::string quoted(const std::string& s) { return detail::quoted(std::string_view(s)); }
@@ -90,6 +84,16 @@ std::vector<emulators::CanWireFrame> frames(const DeviceSpec& d,
   return emulators::generate_wheel_encoders(w.drive, *w.codec, truth, duration, seed);
 }
 
+/// A wheel frame that decodes: identifier * 256 + MsgCounter (the two wheels share their
+/// counter values, so the identifier tells them apart).
+std::optional<std::uint64_t> trigger_tag(const DeviceSpec& d, const protocols::can::Frame& f) {
+  if (f.rtr || f.error || !d.config<WheelEncoders>().codec->wheel_of(f.id, f.extended)) return std::nullopt;
+  protocols::dbc::Frame df{f.id, f.extended, {f.data.begin(), f.data.begin() + f.length()}};
+  const auto sample = d.config<WheelEncoders>().codec->decode(df);
+  if (!sample) return std::nullopt;
+  return std::uint64_t{f.id} * 256 + sample->counter;
+}
+
 }  // namespace
 
 const DeviceKind& wheel_encoders_kind() {
@@ -102,6 +106,8 @@ const DeviceKind& wheel_encoders_kind() {
       .keys = {"name", "type", "dbc", "wheel_radius", "track", "slip", "errors", "rate", "latency"},
       .read = &read,
       .frames = &frames,
+      .trigger = {"identifier * 256 + MsgCounter of each WheelEncoderLeft/Right frame",
+                  16, nullptr, &trigger_tag},
   };
   return kind;
 }

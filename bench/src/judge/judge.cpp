@@ -111,18 +111,28 @@ Alignment align_answers(const std::vector<TriggerRecord>& triggers,
   const geodesy::LocalTangentPlane ltp(datum);
   Alignment out;
   out.first_rx.resize(triggers.size());
-  std::unordered_map<std::uint64_t, std::size_t> by_tag;
-  for (std::size_t i = 0; i < triggers.size(); ++i) by_tag.emplace(triggers[i].tag, i);
+  // The triggers sent, by tag, in send order. Tags that wrap (an N2K SID, a wheel counter)
+  // name several triggers: an answer names the latest one sent with its tag before it arrived
+  // (the first one sent if it arrived before any, as a tag that never repeats always does).
+  std::unordered_map<std::uint64_t, std::vector<std::size_t>> by_tag;
+  for (std::size_t i = 0; i < triggers.size(); ++i) {
+    if (triggers[i].sent) by_tag[triggers[i].tag].push_back(i);
+  }
   for (const auto& a : answers) {
     const auto it = by_tag.find(a.solution.trigger_tag);
-    if (it == by_tag.end() || !triggers[it->second].sent) {
+    if (it == by_tag.end()) {
       ++out.unmatched;
       continue;
     }
-    auto& rx = out.first_rx[it->second];
+    const auto& sent = it->second;
+    const auto after = std::partition_point(sent.begin(), sent.end(), [&](std::size_t i) {
+      return triggers[i].wire_end <= a.rx;
+    });
+    const std::size_t named = after == sent.begin() ? sent.front() : *(after - 1);
+    auto& rx = out.first_rx[named];
     if (!rx) rx = a.rx;
     if (!a.solution.position_valid) continue;
-    const TriggerRecord& tr = triggers[it->second];
+    const TriggerRecord& tr = triggers[named];
     const double t_s = to_seconds(tr.t_valid);
     const auto at = truth.at(t_s);
     const auto& s = a.solution;

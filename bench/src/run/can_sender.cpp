@@ -19,18 +19,19 @@ CanSender::CanSender(const Scenario& sc, std::vector<CanTxFrame> frames,
 }
 
 bool CanSender::send_due(Duration t, const std::function<void(Duration)>& wait,
-                         Duration queue_wait, const std::atomic<bool>& stop) {
+                         Duration queue_wait, const std::atomic<bool>& stop,
+                         const std::function<bool(std::size_t, bool)>& after) {
   while (next_ < frames_.size() && frames_[next_].due <= t) {
     if (stop) return false;
     const CanTxFrame& tx = frames_[next_];
     wait(tx.due);
-    send(tx, queue_wait);
-    ++next_;
+    const bool sent = send(tx, queue_wait);
+    if (!after(next_++, sent)) return false;
   }
   return true;
 }
 
-void CanSender::send(const CanTxFrame& tx, Duration queue_wait) {
+bool CanSender::send(const CanTxFrame& tx, Duration queue_wait) {
   transport::CanFrame f;
   f.id = tx.f.frame.id;
   f.extended = tx.f.frame.extended;
@@ -52,7 +53,7 @@ void CanSender::send(const CanTxFrame& tx, Duration queue_wait) {
   if (!r) {
     ++dropped_[d];
     log_.tally.add(d, tx.due, 0, 0, f.dlc);
-    return;
+    return false;
   }
   ++sent_[d];
   bytes_[d] += f.dlc;
@@ -69,6 +70,7 @@ void CanSender::send(const CanTxFrame& tx, Duration queue_wait) {
   rec.frame = tx.f.frame;
   const std::string line = protocols::candump::format_line(rec) + "\n";
   std::fputs(line.c_str(), log_.can.get());
+  return true;
 }
 
 }  // namespace nav::bench::detail

@@ -23,11 +23,14 @@ class CanSender {
             std::optional<transport::CanSocket> socket, std::size_t devices, RunLog& log);
 
   void set_t0(Timestamp t0) { t0_ = t0; }
-  /// Sends every frame due at or before scenario time t, each after wait(its due time) (the
-  /// realtime pacer waits for it; lockstep does not wait). Lockstep waits for room in a full
-  /// transmit queue up to queue_wait. Returns false when stop was set.
+  /// Sends every frame due at or before scenario time t, in bus order, each after wait(its
+  /// due time) (the realtime pacer waits for it; lockstep does not wait) and followed by
+  /// after(its index in frames(), whether the interface took it). Lockstep waits for room in
+  /// a full transmit queue up to queue_wait. Returns false when stop was set or after() said
+  /// stop (a CAN trigger's barrier failed).
   bool send_due(Duration t, const std::function<void(Duration)>& wait, Duration queue_wait,
-                const std::atomic<bool>& stop);
+                const std::atomic<bool>& stop,
+                const std::function<bool(std::size_t, bool)>& after);
 
   const std::vector<CanTxFrame>& frames() const { return frames_; }
   std::size_t frames_sent(std::uint32_t d) const { return sent_[d]; }
@@ -35,7 +38,8 @@ class CanSender {
   std::size_t frames_dropped(std::uint32_t d) const { return dropped_[d]; }
 
  private:
-  void send(const CanTxFrame& tx, Duration queue_wait);
+  /// Writes one frame; false when the interface did not take it (counted as dropped).
+  bool send(const CanTxFrame& tx, Duration queue_wait);
 
   const Scenario& sc_;
   std::vector<CanTxFrame> frames_;

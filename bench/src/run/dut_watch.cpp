@@ -118,7 +118,11 @@ void DutWatch::drain() {
   while (!stop_ && ok(monotonic_now())) {
     const Timestamp now = monotonic_now();
     const bool done = std::all_of(vehicles_.begin(), vehicles_.end(), [&](const Vehicle& v) {
-      return v.triggers_sent == 0 || v.reader->wait_for(v.last_trigger_tag, now);
+      // As many answers naming the last tag as it was owed (a wrapped tag is owed again).
+      const auto owed = v.answers_expected.find(v.last_trigger_tag);
+      return v.triggers_sent == 0 ||
+             v.reader->wait_for(v.last_trigger_tag, now,
+                                owed == v.answers_expected.end() ? 1 : owed->second);
     });
     if (done || now >= end) return;
     std::this_thread::sleep_for(5ms);

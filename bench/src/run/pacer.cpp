@@ -50,14 +50,15 @@ void RealtimePacer::wait(Duration t, IdleWork& idle) {
 
 void LockstepPacer::advance(Duration t, IdleWork& idle) {
   // What the DUT wrote while answering the messages so far happened at now_; CAN frames and
-  // answers due before this message's first byte go out first.
+  // answers due before this message's first byte go out first (a frame due at t too). A
+  // frame is whole at its due time: the DUT has reached it once it was written.
   idle.poll(now_);
-  idle.send_can_due(t, [](Duration) {});
+  idle.send_can_due(t, [this](Duration due) { now_ = std::max(now_, due); });
   idle.send_due(t);
 }
 
 void LockstepPacer::finish(IdleWork& idle) {
-  idle.send_can_due(Duration::max(), [](Duration) {});
+  idle.send_can_due(Duration::max(), [this](Duration due) { now_ = std::max(now_, due); });
 }
 
 }  // namespace nav::bench::detail

@@ -6,8 +6,11 @@
 //                  when there is none); the CAN frames due before a write are sent at their
 //                  own deadlines first.
 //   LockstepPacer: virtual time: no waiting; before each message the idle work is served at
-//                  the scenario time the DUT has reached (the end of the last message), then
-//                  the CAN frames and answers due by the message's start.
+//                  the scenario time the DUT has reached (the end of the last message, or the
+//                  due time of the last CAN frame if later), then the CAN frames and answers
+//                  due by the message's start. So serial messages (each written whole at its
+//                  first byte's time) and CAN frames (each at its due time, the end of its
+//                  EOF; first on a tie) leave in one wire-time order.
 #pragma once
 
 #include <atomic>
@@ -26,8 +29,9 @@ class IdleWork {
   virtual void poll(Duration now) { (void)now; }
   /// Writes the answers and deliveries due by scenario time t.
   virtual void send_due(Duration t) { (void)t; }
-  /// Writes the CAN frames due by scenario time t; each first waits for its due time with wait
-  /// (realtime; a no-op in lockstep).
+  /// Writes the CAN frames due by scenario time t, in bus order; each first waits for its due
+  /// time with wait (realtime; lockstep only notes the time). A CAN trigger's barrier runs
+  /// here; when it fails the host stops the play at its next begin().
   virtual void send_can_due(Duration t, const std::function<void(Duration)>& wait) {
     (void)t;
     (void)wait;
@@ -87,7 +91,7 @@ class LockstepPacer final : public Pacer {
   void finish(IdleWork& idle) override;
 
  private:
-  Duration now_{0};  ///< the end on the wire of the last message written
+  Duration now_{0};  ///< the end on the wire of the last message (or later CAN frame) written
 };
 
 }  // namespace nav::bench::detail

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "devices/device_kind.hpp"
 #include "nav/bench/capture.hpp"
 
 namespace nav::bench::detail {
@@ -27,14 +28,49 @@ RunWires::RunWires(Parts parts)
     inputs.push_back(StreamInput{&p_.streams->serial[d], devices[d].spec.baud});
   }
   schedule_ = build_schedule(inputs, kChunkPeriod);
+  tag_serial_triggers();
+  tag_can_triggers();
+  suppressed_.assign(devices.size(), 0);
+}
+
+void RunWires::tag_serial_triggers() {
+  // Per device, the tag of each of its messages as its kind names them, counting the LF bytes
+  // its line carried before each (a line carries its messages in stream order).
+  const auto& devices = *p_.devices;
+  std::vector<std::vector<std::optional<std::uint64_t>>> tags(devices.size());
+  for (std::uint32_t d = 0; d < devices.size(); ++d) {
+    const auto rule = device_kind(devices[d].spec).trigger.of_message;
+    if (rule == nullptr || d != p_.watch->vehicle_of(d).trigger_device) continue;
+    std::uint64_t lines = 0;
+    for (const auto& msg : p_.streams->serial[d]) {
+      tags[d].push_back(rule(devices[d].spec, msg, lines));
+      lines += static_cast<std::uint64_t>(std::count(msg.bytes.begin(), msg.bytes.end(), 0x0A));
+    }
+  }
   for (std::uint32_t k = 0; k < schedule_.messages.size(); ++k) {
     const auto& m = schedule_.messages[k];
-    if (!is_trigger(m)) continue;
+    // A message a fault destroyed (garbage, truncated) has no tag: the DUT cannot answer it.
+    if (tags[m.device].empty() || !tags[m.device][m.index]) continue;
     auto& veh = p_.watch->vehicle_of(m.device);
     trigger_of_message_[k] = {p_.watch->vehicle_index(m.device), veh.triggers.size()};
-    veh.triggers.push_back(TriggerRecord{message(m).trigger_tag.value_or(0), message(m).t_valid});
+    veh.triggers.push_back(TriggerRecord{*tags[m.device][m.index], message(m).t_valid});
   }
-  suppressed_.assign(devices.size(), 0);
+}
+
+void RunWires::tag_can_triggers() {
+  if (p_.can == nullptr) return;
+  const auto& frames = p_.can->frames();
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    const std::uint32_t d = frames[i].device;
+    const auto& spec = (*p_.devices)[d].spec;
+    const auto rule = device_kind(spec).trigger.of_frame;
+    auto& veh = p_.watch->vehicle_of(d);
+    if (rule == nullptr || d != veh.trigger_device) continue;
+    const auto tag = rule(spec, frames[i].f.frame);
+    if (!tag) continue;
+    trigger_of_frame_[i] = {p_.watch->vehicle_index(d), veh.triggers.size()};
+    veh.triggers.push_back(TriggerRecord{*tag, frames[i].f.t_valid});
+  }
 }
 
 void RunWires::play(Pacer& pacer, const Clock& clock) {
@@ -44,20 +80,38 @@ void RunWires::play(Pacer& pacer, const Clock& clock) {
              *p_.stop);
 }
 
-bool RunWires::is_trigger(const ScheduledMessage& m) const {
-  // A message of a vehicle's trigger device that still carries its tag (a fault such as
-  // garbage or truncated destroys it: the DUT cannot answer such a message).
-  return m.device == p_.watch->vehicle_of(m.device).trigger_device &&
-         message(m).trigger_tag.has_value();
-}
-
 TriggerRecord& RunWires::trigger_record(std::uint32_t k) {
   const auto [v, i] = trigger_of_message_.at(k);
   return p_.watch->vehicles()[v].triggers[i];
 }
 
 void RunWires::send_can_due(Duration t, const std::function<void(Duration)>& wait) {
-  p_.can->send_due(t, wait, p_.watch->max_watchdog(), *p_.stop);
+  if (failed_) return;
+  // In wire-time order with the serial messages (the pacer calls this before the message at
+  // t) and, in lockstep, with a polled device's answers due before each frame.
+  const auto before = [&](Duration due) {
+    wait(due);
+    if (lockstep_) p_.reactive->send_due_answers(due);
+  };
+  const auto after = [&](std::size_t i, bool sent) { return frame_done(i, sent); };
+  if (!p_.can->send_due(t, before, p_.watch->max_watchdog(), *p_.stop, after)) failed_ = true;
+}
+
+bool RunWires::frame_done(std::size_t i, bool sent) {
+  const auto it = trigger_of_frame_.find(i);
+  // A frame the interface did not take never reached the DUT: no trigger.
+  if (it == trigger_of_frame_.end() || !sent) return true;
+  Vehicle& veh = p_.watch->vehicles()[it->second.first];
+  return trigger_sent(veh, veh.triggers[it->second.second], monotonic_now());
+}
+
+bool RunWires::trigger_sent(Vehicle& veh, TriggerRecord& tr, Timestamp wire_end) {
+  tr.sent = true;
+  tr.wire_end = wire_end;
+  veh.note_trigger_sent(tr);
+  // Answers naming this tag the DUT owes so far: a tag that wrapped counts again.
+  ++veh.answers_expected[tr.tag];
+  return !lockstep_ || barrier(veh, tr);
 }
 
 void RunWires::progress(Duration scenario_t) {
@@ -82,14 +136,13 @@ bool RunWires::go_on(Duration t) {
   return true;
 }
 
-bool RunWires::alive() { return p_.watch->ok(monotonic_now()); }
-
 PlayHost::Begin RunWires::begin(std::uint32_t k) {
   const ScheduledMessage& m = schedule_.messages[k];
   auto& reactive = *p_.reactive;
   auto& watch = *p_.watch;
   Vehicle& veh = watch.vehicle_of(m.device);
-  if (lockstep_ && !reactive.streaming(m.device) && is_trigger(m) && veh.triggers_sent == 0) {
+  if (failed_) return Begin::kStop;  // a CAN trigger went unanswered
+  if (lockstep_ && !reactive.streaming(m.device) && is_trigger(k) && veh.triggers_sent == 0) {
     // The first trigger waits for the DUT's start command, as long as the watchdog allows.
     const int fd = (*p_.lines)[m.device].fd();
     const Timestamp wait_end = monotonic_now() + veh.dut->watchdog;
@@ -154,23 +207,22 @@ bool RunWires::done(std::uint32_t k, Timestamp first, Timestamp end) {
   write_capture_line(p_.log->tx.get(), lockstep_ ? m.start : first - t0_,
                      (*p_.devices)[m.device].spec.name, bytes);
   Vehicle& veh = p_.watch->vehicle_of(m.device);
-  if (!is_trigger(m)) {
+  if (!is_trigger(k)) {
     if (!lockstep_) return true;
-    (*p_.lines)[m.device].flush();  // visible to the DUT before the next trigger
+    // Readable by the DUT before anything later is written, on any line or the CAN bus.
+    (*p_.lines)[m.device].flush();
     return wait_for_repeat_answer(veh, m);
   }
-  auto& tr = trigger_record(k);
-  tr.sent = true;
-  tr.wire_end = lockstep_ ? monotonic_now() : end;
-  veh.note_trigger_sent(tr);
-  return !lockstep_ || barrier(veh, tr);
+  return trigger_sent(veh, trigger_record(k), lockstep_ ? monotonic_now() : end);
 }
 
 bool RunWires::barrier(Vehicle& veh, const TriggerRecord& tr) {
-  // The next message leaves only once the DUT of its vehicle answered this trigger.
-  veh.answers_expected[tr.tag] = 1;
+  // The next message or frame leaves only once the DUT of its vehicle answered this trigger:
+  // one more answer naming its tag than it owed before.
+  const std::size_t count = veh.answers_expected[tr.tag];
   const Timestamp deadline = tr.wire_end + veh.dut->watchdog;
-  while (!veh.reader->wait_for(tr.tag, std::min(deadline, monotonic_now() + kCheckPeriod))) {
+  while (!veh.reader->wait_for(tr.tag, std::min(deadline, monotonic_now() + kCheckPeriod),
+                               count)) {
     if (*p_.stop || !p_.watch->ok(monotonic_now())) return false;
   }
   return true;
@@ -189,7 +241,10 @@ bool RunWires::wait_for_repeat_answer(Vehicle& veh, const ScheduledMessage& m) {
   while (!veh.reader->wait_for(*repeated, std::min(deadline, monotonic_now() + kCheckPeriod),
                                count)) {
     if (*p_.stop || !p_.watch->ok(monotonic_now())) return false;
-    if (monotonic_now() >= deadline) break;
+    if (monotonic_now() >= deadline) {
+      --expected->second;  // this DUT does not answer copies: it owes none for this one
+      break;
+    }
   }
   return true;
 }

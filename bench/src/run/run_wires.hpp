@@ -6,9 +6,13 @@
 //             line never blocks (bytes the DUT does not take are lost, like a UART overrun);
 //             every message's lateness is measured at its first byte;
 //   lockstep: the first trigger waits for the DUT's start command; a message waits for room
-//             on its line while the DUT lives; after a trigger nothing more is written until
-//             its DUT answered it (the barrier), after a stuck copy of a trigger until the DUT
-//             answered that copy (or one watchdog period).
+//             on its line while the DUT lives; after a trigger, serial message or CAN frame,
+//             nothing more is written on any line or bus until its DUT answered it (the
+//             barrier), after a stuck copy of a trigger until the DUT answered that copy (or
+//             one watchdog period).
+//
+// Triggers are named as their device's kind says (DeviceKind::trigger): a serial message by
+// its tag given the LF bytes its line carried before it, a CAN frame by its own bytes.
 #pragma once
 
 #include <atomic>
@@ -47,7 +51,8 @@ class RunWires final : public PlayHost {
     const std::atomic<bool>* stop = nullptr;
     bool quiet = false;  ///< no progress lines
   };
-  /// Builds the wire schedule of the serial streams and the vehicles' trigger records.
+  /// Builds the wire schedule of the serial streams and the vehicles' trigger records (serial
+  /// messages or CAN frames of each vehicle's trigger device).
   explicit RunWires(Parts parts);
 
   void set_t0(Timestamp t0) { t0_ = t0; }
@@ -65,7 +70,7 @@ class RunWires final : public PlayHost {
 
   // PlayHost.
   bool go_on(Duration t) override;
-  bool alive() override;
+  bool alive() override { return !failed_ && p_.watch->ok(monotonic_now()); }
   Begin begin(std::uint32_t k) override;
   void skipped(std::uint32_t k) override { ++suppressed_[schedule_.messages[k].device]; }
   std::size_t size(std::uint32_t k) const override {
@@ -77,7 +82,14 @@ class RunWires final : public PlayHost {
   bool done(std::uint32_t k, Timestamp first, Timestamp end) override;
 
  private:
-  bool is_trigger(const ScheduledMessage& m) const;
+  bool is_trigger(std::uint32_t k) const { return trigger_of_message_.count(k) != 0; }
+  /// Message k's trigger tag: set for the messages of a trigger device that its kind names.
+  void tag_serial_triggers();
+  void tag_can_triggers();
+  /// After CAN frame i was written: a trigger is recorded and, in lockstep, waited for.
+  bool frame_done(std::size_t i, bool sent);
+  /// A trigger has left: it is recorded and, in lockstep, waited for.
+  bool trigger_sent(Vehicle& veh, TriggerRecord& tr, Timestamp wire_end);
   const emulators::WireMessage& message(const ScheduledMessage& m) const {
     return p_.streams->serial[m.device][m.index];
   }
@@ -91,6 +103,9 @@ class RunWires final : public PlayHost {
   WireSchedule schedule_;
   /// Schedule message index -> (vehicle, index into its triggers).
   std::unordered_map<std::uint32_t, std::pair<std::uint32_t, std::size_t>> trigger_of_message_;
+  /// CAN frame index (CanSender::frames()) -> (vehicle, index into its triggers).
+  std::unordered_map<std::size_t, std::pair<std::uint32_t, std::size_t>> trigger_of_frame_;
+  bool failed_ = false;  ///< a CAN trigger's barrier failed: the play stops
   std::vector<std::size_t> suppressed_;
   Timestamp t0_{};
   Duration next_check_{0};

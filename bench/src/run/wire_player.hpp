@@ -5,8 +5,10 @@
 //
 //   for each write (a chunk of a message, or a whole message):
 //     host.go_on(t)          stop on a signal or a DUT that died; progress
-//     pacer.advance(t, host) CAN frames due, idle work (reactive devices), the deadline
-//     host.begin(k)          at a message's first byte: write it, skip it, or stop
+//     pacer.advance(t, host) CAN frames due (a CAN trigger's barrier), idle work (reactive
+//                            devices), the deadline
+//     host.begin(k)          at a message's first byte: write it, skip it, or stop (also
+//                            when a CAN trigger's barrier failed in advance)
 //     host.write(...)        the bytes; host.wrote() counts them
 //     host.done(k, ...)      the message is whole on the wire: captures, triggers, barrier
 //   pacer.finish(host)       the CAN frames due after the last write

@@ -117,9 +117,17 @@ void read_dut(const Field& f, Scenario& s) {
   }
   const Field trigger = m.required("trigger");
   dut.trigger = device_ref(trigger, s);
-  if (const DeviceSpec* d = find_device(s, dut.trigger); !device_kind(*d).may_trigger) {
-    trigger.fail("the trigger must be a microstrain-gx3-25 (only its packets carry the timer "
-                 "tag the DUT echoes); " + quoted(d->name) + " is a " +
+  if (const DeviceSpec* d = find_device(s, dut.trigger); !device_kind(*d).may_trigger()) {
+    std::vector<std::string> names;
+    for (const auto* k : detail::device_kinds()) {
+      if (k->may_trigger()) names.emplace_back(k->name);
+    }
+    std::string kinds = names.front();
+    for (std::size_t i = 1; i < names.size(); ++i) {
+      kinds += (i + 1 == names.size() ? " or " : ", ") + names[i];
+    }
+    trigger.fail("the trigger must be a " + kinds + " (a device whose messages the DUT can "
+                 "name in its solutions); " + quoted(d->name) + " is a " +
                  d->type);
   }
   if (auto v = m.optional("startup")) dut.startup = v->duration(Bound::kNonNegative);

@@ -4,11 +4,19 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
+#include <memory>
 #include <set>
 #include <stdexcept>
 #include <string>
 
 #include "devices/device_kind.hpp"
+#include "devices/wheel_encoders.hpp"
+#include "nav/emulators/ebimu_emulator.hpp"
+#include "nav/emulators/nmea2000_emulator.hpp"
+#include "nav/protocols/dbc.hpp"
+#include "nav/protocols/nmea2000.hpp"
+#include "nav/protocols/wheel_encoder.hpp"
 
 namespace nav::bench::detail {
 namespace {
@@ -84,14 +92,109 @@ TEST(DeviceKinds, DefaultsAsDocumented) {
   EXPECT_EQ(acoustic_modem_kind().keys,
             (std::vector<std::string>{"name", "type", "port", "baud"}));
   EXPECT_EQ(wheel_encoders_kind().latency, 1ms);
-  // Only the GX3 streams once commanded and only its packets name a trigger.
+  // Only the GX3 streams once commanded.
   for (const auto* k : device_kinds()) {
     EXPECT_EQ(k->commanded, k == &gx3_kind()) << k->name;
-    EXPECT_EQ(k->may_trigger, k == &gx3_kind()) << k->name;
   }
   EXPECT_EQ(gps_kind().special_faults,
             (std::vector<emulators::MeasurementFault::Kind>{
                 emulators::MeasurementFault::Kind::kGpsJump}));
+}
+
+TEST(DeviceKinds, TheKindsWhoseMessagesADutCanNameMayTrigger) {
+  // docs/dut-contract.md section 4: a rule per kind, serial or CAN as the kind's link.
+  const std::set<const DeviceKind*> triggers{&gx3_kind(), &ebimu_kind(), &nmea2000_kind(),
+                                             &wheel_encoders_kind()};
+  for (const auto* k : device_kinds()) {
+    EXPECT_EQ(k->may_trigger(), triggers.count(k) == 1) << k->name;
+    if (!k->may_trigger()) continue;
+    EXPECT_NE(k->trigger.rule, nullptr) << k->name;
+    EXPECT_EQ(k->trigger.of_frame != nullptr, k->link == Link::kCan) << k->name;
+    EXPECT_EQ(k->trigger.of_message != nullptr, k->link == Link::kStream) << k->name;
+  }
+  EXPECT_EQ(gx3_kind().trigger.wraps_after, 0u);
+  EXPECT_EQ(ebimu_kind().trigger.wraps_after, 0u);
+  EXPECT_EQ(nmea2000_kind().trigger.wraps_after, 253u);   // SID 0..252
+  EXPECT_EQ(wheel_encoders_kind().trigger.wraps_after, 16u);  // a 4-bit MsgCounter
+}
+
+emulators::WireMessage message_of(const std::string& text) {
+  emulators::WireMessage m;
+  m.bytes.assign(text.begin(), text.end());
+  return m;
+}
+
+TEST(DeviceKinds, Gx3TriggerTagIsThePacketTimerAsSent) {
+  DeviceSpec d;
+  emulators::WireMessage m;
+  m.trigger_tag = 62500;
+  EXPECT_EQ(gx3_kind().trigger.of_message(d, m, 7), 62500u);  // lines do not matter
+  m.trigger_tag.reset();  // a packet a fault destroyed
+  EXPECT_FALSE(gx3_kind().trigger.of_message(d, m, 7).has_value());
+}
+
+TEST(DeviceKinds, EbimuTriggerTagIsTheLinesOrdinalOnItsPort) {
+  DeviceSpec d;
+  d.type = "ebimu-9dof";
+  d.settings.emplace<emulators::EbimuConfig>();  // Euler angles only (the default output)
+  const auto tag = ebimu_kind().trigger.of_message;
+  EXPECT_EQ(tag(d, message_of("*1.00,-2.00,30.00\r\n"), 0), 0u);
+  EXPECT_EQ(tag(d, message_of("*1.00,-2.00,30.00\r\n"), 41), 41u);
+  // Not a whole line of its configuration: no trigger (the DUT rejects it), but its LF still
+  // counts on the line (the caller counts every LF byte).
+  EXPECT_FALSE(tag(d, message_of("*1.00,-2.00\r\n"), 3).has_value());
+  EXPECT_FALSE(tag(d, message_of("*1.00,-2.00,30.0"), 3).has_value());
+  EXPECT_FALSE(tag(d, message_of("\x13\n*1.00,-2.00,30.00\r\n"), 3).has_value());
+  d.config<emulators::EbimuConfig>().gyro = true;
+  EXPECT_EQ(tag(d, message_of("*1.00,-2.00,30.00,0.10,0.20,0.30\r\n"), 5), 5u);
+  EXPECT_FALSE(tag(d, message_of("*1.00,-2.00,30.00\r\n"), 5).has_value());
+}
+
+TEST(DeviceKinds, Nmea2000TriggerTagIsPgnAndSidOfItsSingleFramesWithASid) {
+  namespace n2k = protocols::n2k;
+  DeviceSpec d;
+  d.type = "nmea2000";
+  d.settings.emplace<emulators::Nmea2000Config>().source = 35;
+  const auto tag = nmea2000_kind().trigger.of_frame;
+  const std::array<std::uint8_t, 8> payload{7, 0xB2, 0x7A, 0xFF, 0x7F, 0xFF, 0x7F, 0xFD};
+  const auto frame = [&](std::uint32_t pgn, std::uint8_t source) {
+    return n2k::single_frame(n2k::Header{2, pgn, source, n2k::kBroadcast}, payload);
+  };
+  EXPECT_EQ(tag(d, frame(n2k::kPgnVesselHeading, 35)), 127250u * 256 + 7);
+  EXPECT_EQ(tag(d, frame(n2k::kPgnCogSogRapid, 35)), 129026u * 256 + 7);
+  EXPECT_FALSE(tag(d, frame(n2k::kPgnVesselHeading, 36)).has_value());  // another device
+  EXPECT_FALSE(tag(d, frame(n2k::kPgnPositionRapid, 35)).has_value());  // no SID
+  const auto fast = n2k::encode_frames(n2k::Header{3, n2k::kPgnGnssPosition, 35, n2k::kBroadcast},
+                                       n2k::Message{n2k::GnssPositionData{}});
+  for (const auto& f : fast) EXPECT_FALSE(tag(d, f).has_value());  // a fast packet
+}
+
+TEST(DeviceKinds, WheelEncoderTriggerTagIsIdentifierAndCounter) {
+  namespace we = protocols::wheel_encoder;
+  auto db = protocols::dbc::load(std::string(NAV_SOURCE_DIR) + "/fixtures/crawler.dbc");
+  ASSERT_TRUE(db.has_value()) << db.error().detail;
+  auto codec = we::WheelEncoderCodec::from_database(*db);
+  ASSERT_TRUE(codec.has_value()) << codec.error().detail;
+  DeviceSpec d;
+  d.type = "wheel-encoders";
+  d.settings.emplace<WheelEncoders>().codec = std::make_shared<const we::WheelEncoderCodec>(*codec);
+  const auto tag = wheel_encoders_kind().trigger.of_frame;
+  for (const auto wheel : {we::Wheel::kLeft, we::Wheel::kRight}) {
+    we::WheelEncoderSample s;
+    s.wheel = wheel;
+    s.ticks = 1234;
+    s.counter = 9;
+    const auto df = codec->encode(s);
+    ASSERT_TRUE(df.has_value());
+    protocols::can::Frame f;
+    f.id = df->id;
+    f.extended = df->extended;
+    f.dlc = static_cast<std::uint8_t>(df->data.size());
+    std::copy(df->data.begin(), df->data.end(), f.data.begin());
+    EXPECT_EQ(tag(d, f), std::uint64_t{df->id} * 256 + 9);
+    f.id = 0x7FF;  // a frame of no wheel
+    EXPECT_FALSE(tag(d, f).has_value());
+  }
 }
 
 }  // namespace

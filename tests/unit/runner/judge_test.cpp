@@ -162,5 +162,29 @@ TEST_F(JudgeFixture, DeadlineIsNotJudgedInLockstep) {
   EXPECT_FALSE(out.checks[0].judged);
 }
 
+TEST_F(JudgeFixture, ATagThatWrapsNamesTheLatestTriggerSentWithItBeforeTheAnswer) {
+  // An 8-bit-style counter: triggers 0 and 2 share tag 7 (dut-contract section 4).
+  std::vector<TriggerRecord> triggers;
+  const Timestamp t0{1'000'000'000};
+  const std::uint64_t tags[] = {7, 8, 7, 9};
+  for (std::size_t k = 0; k < 4; ++k) {
+    const double t = 1.0 + static_cast<double>(k);
+    triggers.push_back({tags[k], from_seconds(t), k != 3, t0 + from_seconds(t)});
+  }
+  std::vector<Answer> answers;
+  answers.push_back(answer_at(7, 1.0, Vec3::Zero(), triggers[0].wire_end + 5ms));  // trigger 0
+  answers.push_back(answer_at(7, 3.0, Vec3::Zero(), triggers[2].wire_end + 5ms));  // trigger 2
+  answers.push_back(answer_at(9, 4.0, Vec3::Zero(), t0 + 6s));  // trigger 3 was never sent
+  const Alignment al = align_answers(triggers, answers, *table, sc.datum);
+  EXPECT_EQ(al.unmatched, 1u);
+  ASSERT_TRUE(al.first_rx[0].has_value());
+  EXPECT_EQ(*al.first_rx[0], triggers[0].wire_end + 5ms);
+  EXPECT_FALSE(al.first_rx[1].has_value());
+  ASSERT_TRUE(al.first_rx[2].has_value());
+  EXPECT_EQ(*al.first_rx[2], triggers[2].wire_end + 5ms);
+  ASSERT_EQ(al.aligned.size(), 2u);
+  EXPECT_DOUBLE_EQ(al.aligned[1].t_s, 3.0);  // judged at the second trigger's time
+}
+
 }  // namespace
 }  // namespace nav::bench

@@ -1,9 +1,11 @@
 // SPDX-License-Identifier: MIT
 // The wire player's loop and both pacers on a fake clock: realtime deadlines and chunks, the
 // idle work served while waiting, CAN frames at their own deadlines, lockstep's order and
-// barrier, a replay's speed.
+// barrier (a CAN trigger's too), serial messages and CAN frames in one wire-time order, a
+// replay's speed.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <string>
 #include <vector>
@@ -193,6 +195,108 @@ TEST_F(Player, PlayAStopSignalEndsThePlayBeforeTheNextWrite) {
   LockstepPacer& p = lockstep;
   EXPECT_FALSE(play_wires(s.messages, writes_for(s, p, r.sizes), p, r, clock, stop));
   EXPECT_TRUE(r.log.empty());
+}
+
+/// A host whose CAN bus carries frames at the given due times; those in `triggers` are a
+/// vehicle's triggers: after each the host waits for the DUT's answer (the barrier, as
+/// RunWires does), and stops the play at the next message when it never came.
+class CanTriggerHost : public Recorder {
+ public:
+  using Recorder::Recorder;
+  std::vector<Duration> triggers;
+  bool answers = true;  ///< whether the DUT answers the CAN triggers
+  bool failed = false;
+
+  void send_can_due(Duration t, const std::function<void(Duration)>& wait) override {
+    while (!failed && !can_frames.empty() && can_frames.front() <= t) {
+      const Duration frame = can_frames.front();
+      can_frames.erase(can_frames.begin());
+      wait(frame);
+      log.push_back("can " + std::to_string(frame.count() / 1'000'000) + "ms");
+      if (std::find(triggers.begin(), triggers.end(), frame) == triggers.end()) continue;
+      log.push_back(answers ? "answered" : "unanswered");
+      failed = !answers;
+    }
+  }
+  Begin begin(std::uint32_t k) override { return failed ? Begin::kStop : Recorder::begin(k); }
+};
+
+/// Serial messages at 0, 2 and 4 ms (0.5 ms each on the wire), CAN frames at 1, 2, 3, 5 ms.
+WireSchedule three_messages() {
+  WireSchedule s;
+  s.messages = {{0, 0, 0ms, 500us}, {1, 0, 2ms, 2500us}, {0, 1, 4ms, 4500us}};
+  s.chunks = {{0ms, 0, 0, 1}, {2ms, 1, 0, 1}, {4ms, 2, 0, 1}};
+  return s;
+}
+
+std::vector<std::string> writes_and_frames(const std::vector<std::string>& log) {
+  std::vector<std::string> out;
+  for (const auto& l : log) {
+    if (l.rfind("poll", 0) != 0 && l.rfind("due", 0) != 0 && l.rfind("done", 0) != 0) {
+      out.push_back(l.substr(0, l.find(" at ")));
+    }
+  }
+  return out;
+}
+
+TEST_F(Player, LockstepInterleavesSerialMessagesAndCanFramesInWireTimeOrder) {
+  LockstepPacer& p = lockstep;
+  CanTriggerHost h{clock};
+  h.sizes = {1, 1, 1};
+  h.can_frames = {1ms, 2ms, 3ms, 5ms};
+  const WireSchedule s3 = three_messages();
+  ASSERT_TRUE(play_wires(s3.messages, writes_for(s3, p, h.sizes), p, h, clock, stop));
+  // A frame due at a message's first byte goes first; the last frame after the last message.
+  EXPECT_EQ(writes_and_frames(h.log),
+            (std::vector<std::string>{"write 0 [0+1] whole", "can 1ms", "can 2ms",
+                                      "write 1 [0+1] whole", "can 3ms", "write 2 [0+1] whole",
+                                      "can 5ms"}));
+  EXPECT_EQ(p.now(), 5ms);  // the DUT has reached the last frame
+}
+
+TEST_F(Player, LockstepCanTriggerHoldsEveryLineAndBusUntilItIsAnswered) {
+  LockstepPacer& p = lockstep;
+  CanTriggerHost h{clock};
+  h.sizes = {1, 1, 1};
+  h.can_frames = {1ms, 2ms, 3ms, 5ms};
+  h.triggers = {2ms};
+  const WireSchedule s3 = three_messages();
+  ASSERT_TRUE(play_wires(s3.messages, writes_for(s3, p, h.sizes), p, h, clock, stop));
+  EXPECT_EQ(writes_and_frames(h.log),
+            (std::vector<std::string>{"write 0 [0+1] whole", "can 1ms", "can 2ms", "answered",
+                                      "write 1 [0+1] whole", "can 3ms", "write 2 [0+1] whole",
+                                      "can 5ms"}));
+  // Requests the DUT wrote while answering the trigger are stamped with its time.
+  const auto poll = std::find(h.log.begin(), h.log.end(), "poll 2ms");
+  EXPECT_NE(poll, h.log.end());
+}
+
+TEST_F(Player, LockstepAnUnansweredCanTriggerStopsThePlayBeforeAnythingElseIsWritten) {
+  LockstepPacer& p = lockstep;
+  CanTriggerHost h{clock};
+  h.sizes = {1, 1, 1};
+  h.can_frames = {1ms, 2ms, 3ms, 5ms};
+  h.triggers = {2ms};
+  h.answers = false;
+  const WireSchedule s3 = three_messages();
+  EXPECT_FALSE(play_wires(s3.messages, writes_for(s3, p, h.sizes), p, h, clock, stop));
+  EXPECT_EQ(writes_and_frames(h.log), (std::vector<std::string>{"write 0 [0+1] whole",
+                                                                "can 1ms", "can 2ms",
+                                                                "unanswered"}));
+}
+
+TEST_F(Player, RealtimeCanTriggerFramesStillGoAtTheirOwnDeadlines) {
+  RealtimePacer& p = realtime;
+  CanTriggerHost h{clock};
+  h.sizes = {1, 1, 1};
+  h.can_frames = {1ms, 2ms, 3ms, 5ms};
+  h.triggers = {2ms};
+  const WireSchedule s3 = three_messages();
+  ASSERT_TRUE(play_wires(s3.messages, writes_for(s3, p, h.sizes), p, h, clock, stop));
+  EXPECT_EQ(writes_and_frames(h.log),
+            (std::vector<std::string>{"write 0 [0+1]", "can 1ms", "can 2ms", "answered",
+                                      "write 1 [0+1]", "can 3ms", "write 2 [0+1]", "can 5ms"}));
+  EXPECT_EQ(clock.now(), kT0 + 5ms);
 }
 
 }  // namespace
