@@ -13,9 +13,6 @@
 // Exit codes: 0 SIGTERM/SIGINT, output hang-up, or every input at EOF/hang-up;
 //             2 bad usage or config (a DBC that cannot be loaded or disagrees with the code);
 //             3 a port or the CAN interface cannot be opened.
-#include <sys/signalfd.h>
-#include <unistd.h>
-
 #include <csignal>
 #include <cstdio>
 #include <exception>
@@ -24,6 +21,9 @@
 #include <utility>
 #include <vector>
 
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/signal_set.hpp>
+#include <boost/system/error_code.hpp>
 #include <CLI/CLI.hpp>
 
 #include "nav/protocols/dbc.hpp"
@@ -127,16 +127,6 @@ std::string footer() {
          "(every port's counters) goes to stderr on exit.\n\n"
          "Config keys (--config, a YAML map key: value, SI units):\n" +
          nav::dut::config_keys_help();
-}
-
-/// Blocks SIGTERM/SIGINT and returns a signalfd that reports them (-1 on failure).
-int make_signal_fd() {
-  sigset_t mask;
-  sigemptyset(&mask);
-  sigaddset(&mask, SIGTERM);
-  sigaddset(&mask, SIGINT);
-  if (sigprocmask(SIG_BLOCK, &mask, nullptr) != 0) return -1;
-  return signalfd(-1, &mask, SFD_NONBLOCK | SFD_CLOEXEC);
 }
 
 int run(int argc, char** argv) {
@@ -253,9 +243,16 @@ int run(int argc, char** argv) {
   }
 
   std::signal(SIGPIPE, SIG_IGN);
-  const int signal_fd = make_signal_fd();
-  if (signal_fd < 0) {
-    std::perror("navd: cannot set up signal handling");
+  // Caught from here on: a SIGTERM while the ports open stops navd at its first wake-up,
+  // with the summary, as one that comes later does.
+  boost::asio::io_context io;
+  boost::asio::signal_set signals(io);
+  boost::system::error_code signal_error;
+  signals.add(SIGTERM, signal_error);
+  if (!signal_error) signals.add(SIGINT, signal_error);
+  if (signal_error) {
+    std::fprintf(stderr, "navd: cannot set up signal handling: %s\n",
+                 signal_error.message().c_str());
     return kExitUsage;
   }
 
@@ -321,11 +318,10 @@ int run(int argc, char** argv) {
                opt.output_baud, opt.config_path.empty() ? "defaults" : opt.config_path.c_str(),
                opt.delay_ms);
 
-  nav::dut::NavdApp navd(opt, config, std::move(*ahrs), std::move(gps), std::move(extras),
-                         std::move(modem), std::move(can), std::move(*output), signal_fd);
+  nav::dut::NavdApp navd(io, signals, opt, config, std::move(*ahrs), std::move(gps),
+                         std::move(extras), std::move(modem), std::move(can), std::move(*output));
   const std::string reason = navd.run();
   std::fprintf(stderr, "%s\n", navd.stats_line(reason).c_str());
-  ::close(signal_fd);
   return kExitOk;
 }
 

@@ -1,15 +1,10 @@
 // SPDX-License-Identifier: MIT
 #include "navd_app.hpp"
 
-#include <poll.h>
-#include <sys/signalfd.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <array>
-#include <cerrno>
+#include <chrono>
 #include <cmath>
-#include <csignal>
 #include <cstdio>
 #include <cstring>
 
@@ -83,23 +78,24 @@ protocols::can::Frame to_can_frame(const transport::CanFrame& f) {
   return out;
 }
 
-std::string rejects_text(const RejectCounts& r) {
-  return "checksum=" + std::to_string(r.checksum) + " framing=" + std::to_string(r.framing) +
-         " sync_bytes=" + std::to_string(r.sync_bytes) +
-         " overflow_bytes=" + std::to_string(r.overflow_bytes);
-}
-
 }  // namespace
 
-NavdApp::NavdApp(const NavdOptions& options, const NavdConfig& config,
+using Wait = DescriptorWatch::WaitType;
+
+NavdApp::NavdApp(boost::asio::io_context& io, boost::asio::signal_set& signals,
+                 const NavdOptions& options, const NavdConfig& config,
                  transport::SerialPort ahrs, std::optional<transport::SerialPort> gps,
                  std::vector<ExtraPort> extras, std::optional<transport::SerialPort> modem,
-                 std::optional<CanPort> can, transport::SerialPort output, int signal_fd)
-    : options_(options),
+                 std::optional<CanPort> can, transport::SerialPort output)
+    : io_(io),
+      signals_(signals),
+      delay_timer_(io),
+      options_(options),
       ahrs_(std::move(ahrs)),
       gps_(std::move(gps)),
       output_(std::move(output)),
-      signal_fd_(signal_fd),
+      ahrs_watch_(io, ahrs_.fd()),
+      output_watch_(io, output_.fd()),
       gps_open_(gps_.has_value()),
       ahrs_decoder_(&protocols::gx3::parse, protocols::gx3::kCmdAccelRateMag, kInputBufferBytes),
       gps_decoder_(&protocols::nmea::parse, static_cast<std::uint8_t>('$'), kInputBufferBytes),
@@ -107,6 +103,8 @@ NavdApp::NavdApp(const NavdOptions& options, const NavdConfig& config,
       params_(config.filter),
       can_(std::move(can)),
       can_open_(can_.has_value()) {
+  if (gps_) gps_watch_.emplace(io, gps_->fd());
+  if (can_) can_watch_.emplace(io, can_->socket.fd());
   const estimator::FilterParams& params = config.filter;
   if (config.navigator == NavigatorKind::kDvl) {
     dvl_nav_.emplace(params, config.attitude);
@@ -115,14 +113,16 @@ NavdApp::NavdApp(const NavdOptions& options, const NavdConfig& config,
   }
   if (modem) {
     modem_ = std::move(modem);
+    modem_watch_.emplace(io, modem_->fd());
     modem_open_ = true;
     modem_link_.emplace(static_cast<std::uint8_t>(options.vehicle_id),
                         config.navd.modem_period_s, kInputBufferBytes);
   }
   extras_.reserve(extras.size());
   for (auto& e : extras) {
-    Extra x{std::move(e.port), AidingInput(e.spec.name, e.spec.protocol, kInputBufferBytes),
-            true, std::nullopt, 0};
+    auto watch = std::make_unique<DescriptorWatch>(io, e.port.fd());
+    Extra x{std::move(e.port), std::move(watch),
+            AidingInput(e.spec.name, e.spec.protocol, kInputBufferBytes), true, std::nullopt, 0};
     if (e.spec.protocol == InputProtocol::kKeller) x.poller.emplace(params.depth_poll_period_s);
     extras_.push_back(std::move(x));
   }
@@ -291,25 +291,18 @@ void NavdApp::handle_gps(const protocols::nmea::Sentence& s) {
   }
 }
 
-bool NavdApp::signal_pending(int timeout_ms) {
-  pollfd p{signal_fd_, POLLIN, 0};
-  if (::poll(&p, 1, timeout_ms) > 0 && (p.revents & POLLIN) != 0) {
-    signalfd_siginfo info{};
-    if (::read(signal_fd_, &info, sizeof info) == static_cast<ssize_t>(sizeof info)) {
-      const char* name = sigabbrev_np(static_cast<int>(info.ssi_signo));
-      stop_reason_ = std::string("SIG") + (name != nullptr ? name : "?");
-    } else {
-      stop_reason_ = "signal";
-    }
-    return true;
-  }
-  return false;
-}
-
 bool NavdApp::wait_delay() {
   if (options_.delay_ms <= 0) return true;
-  // Sleeping on the signalfd keeps SIGTERM prompt even with a long delay.
-  return !signal_pending(options_.delay_ms);
+  // Sleeping on the io_context keeps SIGTERM prompt even with a long delay. Port handlers
+  // that run meanwhile only mark their ports for the next wake-up.
+  delay_over_ = false;
+  delay_timer_.expires_after(std::chrono::milliseconds(options_.delay_ms));
+  delay_timer_.async_wait([this](const boost::system::error_code& ec) {
+    if (!ec) delay_over_ = true;
+  });
+  while (!delay_over_ && stop_reason_.empty()) io_.run_one();
+  if (!delay_over_) delay_timer_.cancel();
+  return stop_reason_.empty();
 }
 
 bool NavdApp::handle_ahrs(const protocols::gx3::AccelRateMag& m) {
@@ -335,81 +328,100 @@ bool NavdApp::handle_ahrs(const protocols::gx3::AccelRateMag& m) {
   return true;
 }
 
+void NavdApp::arm_waits() {
+  if (ahrs_open_) ahrs_watch_.arm(Wait::wait_read);
+  if (gps_open_) gps_watch_->arm(Wait::wait_read);
+  for (auto& e : extras_) {
+    if (e.open) e.watch->arm(Wait::wait_read);
+  }
+  if (can_open_) can_watch_->arm(Wait::wait_read);
+  if (modem_open_) modem_watch_->arm(Wait::wait_read);
+  output_watch_.arm(Wait::wait_error);
+  if (!out_.empty()) output_watch_.arm(Wait::wait_write);
+}
+
+bool NavdApp::woken() const {
+  const bool extra = std::any_of(extras_.begin(), extras_.end(),
+                                 [](const Extra& e) { return e.watch->ready(Wait::wait_read); });
+  return !stop_reason_.empty() || ahrs_watch_.ready(Wait::wait_read) || extra ||
+         (gps_watch_ && gps_watch_->ready(Wait::wait_read)) ||
+         (can_watch_ && can_watch_->ready(Wait::wait_read)) ||
+         (modem_watch_ && modem_watch_->ready(Wait::wait_read)) ||
+         output_watch_.ready(Wait::wait_error) || output_watch_.ready(Wait::wait_write);
+}
+
+void NavdApp::wait_for_wake() {
+  // run_one() sleeps only while no handler is ready (one may be left from the --delay-ms
+  // sleep), and may run one that marks nothing (the io_context's own bookkeeping); poll()
+  // then runs every other handler ready now, so each ready port is marked. run_one() returns
+  // 0 only with nothing left to wait for, which the signal wait rules out while navd runs.
+  while (!woken() && io_.run_one() > 0) {
+  }
+  io_.poll();
+}
+
+void NavdApp::handle_wake() {
+  ahrs_msgs_.clear();
+  gps_msgs_.clear();
+  // Trigger port first: aiding bytes that preceded a trigger seen now are readable below.
+  if (ahrs_watch_.take(Wait::wait_read)) {
+    read_port(ahrs_, ahrs_open_,
+              [this](protocols::ByteSpan b) { ahrs_decoder_.feed(b, ahrs_msgs_); });
+  }
+  if (gps_watch_ && gps_watch_->take(Wait::wait_read)) {
+    read_port(*gps_, gps_open_, [this](protocols::ByteSpan b) { gps_decoder_.feed(b, gps_msgs_); });
+  }
+  // --input messages are handled (counted, kept) as they decode: before any AHRS packet.
+  for (auto& e : extras_) {
+    if (!e.watch->take(Wait::wait_read)) continue;
+    read_port(e.port, e.open, [&e](protocols::ByteSpan b) { e.input.feed(b); });
+  }
+  // CAN frames are decoded and counted as they are read (not fused): before any AHRS packet.
+  if (can_watch_ && can_watch_->take(Wait::wait_read)) read_can();
+  // Peer reports are only counted, kept and logged: their order against AHRS is moot.
+  if (modem_watch_ && modem_watch_->take(Wait::wait_read)) {
+    read_port(*modem_, modem_open_, [this](protocols::ByteSpan b) { handle_modem_bytes(b); });
+  }
+
+  for (const auto& s : gps_msgs_) handle_gps(s);
+  handle_keller_answers();
+  handle_dvl_velocities();
+  for (const auto& m : ahrs_msgs_) {
+    if (!handle_ahrs(m)) return;
+  }
+
+  (void)output_watch_.take(Wait::wait_write);  // flushed below whatever woke us
+  if (output_watch_.take(Wait::wait_error)) {
+    stop_reason_ = "output hang-up";
+    return;
+  }
+  if (auto ok = out_.flush(); !ok) {
+    stop_reason_ = "output closed: " + ok.error().detail;
+    return;
+  }
+  const bool extra_open =
+      std::any_of(extras_.begin(), extras_.end(), [](const Extra& e) { return e.open; });
+  if (!ahrs_open_ && !gps_open_ && !extra_open && !modem_open_ && !can_open_) {
+    stop_reason_ = "all inputs closed";
+  }
+}
+
 std::string NavdApp::run() {
-  std::vector<protocols::gx3::AccelRateMag> ahrs_msgs;
-  std::vector<protocols::nmea::Sentence> gps_msgs;
-  constexpr std::size_t kFixedFds = 6;
-  std::vector<pollfd> fds;
   // Keller sensors are initialised as soon as navd runs (the bench answers a request made
   // during the DUT's start-up as at scenario time 0).
   for (auto& e : extras_) {
     if (e.poller) write_request(e, e.poller->start());
   }
+  signals_.async_wait([this](const boost::system::error_code& ec, int signal_number) {
+    if (ec) return;  // cancelled: navd is stopping anyway
+    const char* name = sigabbrev_np(signal_number);
+    stop_reason_ = std::string("SIG") + (name != nullptr ? name : "?");
+  });
   while (stop_reason_.empty()) {
-    // Index 0 signals, 1 AHRS, 2 GPS, 3 output, 4 modem, 5 CAN, 6.. the --input ports; a
-    // closed input is skipped (fd -1).
-    fds.resize(kFixedFds + extras_.size());
-    fds[0] = {signal_fd_, POLLIN, 0};
-    fds[1] = {ahrs_open_ ? ahrs_.fd() : -1, POLLIN, 0};
-    fds[2] = {gps_open_ ? gps_->fd() : -1, POLLIN, 0};
-    fds[3] = {output_.fd(), static_cast<short>(out_.empty() ? 0 : POLLOUT), 0};
-    fds[4] = {modem_open_ ? modem_->fd() : -1, POLLIN, 0};
-    fds[5] = {can_open_ ? can_->socket.fd() : -1, POLLIN, 0};
-    for (std::size_t i = 0; i < extras_.size(); ++i) {
-      fds[kFixedFds + i] = {extras_[i].open ? extras_[i].port.fd() : -1, POLLIN, 0};
-    }
-    if (::poll(fds.data(), fds.size(), -1) < 0) {
-      if (errno == EINTR) continue;
-      stop_reason_ = std::string("poll failed: ") + std::strerror(errno);
-      break;
-    }
-    if ((fds[0].revents & POLLIN) != 0 && signal_pending(0)) break;
-
-    constexpr short kReadable = POLLIN | POLLHUP | POLLERR | POLLNVAL;
-    ahrs_msgs.clear();
-    gps_msgs.clear();
-    // Trigger port first: aiding bytes that preceded a trigger seen now are readable below.
-    if ((fds[1].revents & kReadable) != 0) {
-      read_port(ahrs_, ahrs_open_,
-                [&](protocols::ByteSpan b) { ahrs_decoder_.feed(b, ahrs_msgs); });
-    }
-    if ((fds[2].revents & kReadable) != 0) {
-      read_port(*gps_, gps_open_, [&](protocols::ByteSpan b) { gps_decoder_.feed(b, gps_msgs); });
-    }
-    // --input messages are handled (counted, kept) as they decode: before any AHRS packet.
-    for (std::size_t i = 0; i < extras_.size(); ++i) {
-      if ((fds[kFixedFds + i].revents & kReadable) == 0) continue;
-      Extra& e = extras_[i];
-      read_port(e.port, e.open, [&e](protocols::ByteSpan b) { e.input.feed(b); });
-    }
-    // CAN frames are decoded and counted as they are read (not fused): before any AHRS packet.
-    if ((fds[5].revents & kReadable) != 0) read_can();
-    // Peer reports are only counted, kept and logged: their order against AHRS is moot.
-    if ((fds[4].revents & kReadable) != 0) {
-      read_port(*modem_, modem_open_, [this](protocols::ByteSpan b) { handle_modem_bytes(b); });
-    }
-
-    for (const auto& s : gps_msgs) handle_gps(s);
-    handle_keller_answers();
-    handle_dvl_velocities();
-    for (const auto& m : ahrs_msgs) {
-      if (!handle_ahrs(m)) break;
-    }
-    if (!stop_reason_.empty()) break;
-
-    if ((fds[3].revents & (POLLHUP | POLLERR | POLLNVAL)) != 0) {
-      stop_reason_ = "output hang-up";
-      break;
-    }
-    if (auto ok = out_.flush(); !ok) {
-      stop_reason_ = "output closed: " + ok.error().detail;
-      break;
-    }
-    const bool extra_open =
-        std::any_of(extras_.begin(), extras_.end(), [](const Extra& e) { return e.open; });
-    if (!ahrs_open_ && !gps_open_ && !extra_open && !modem_open_ && !can_open_) {
-      stop_reason_ = "all inputs closed";
-    }
+    arm_waits();
+    wait_for_wake();
+    if (!stop_reason_.empty()) break;  // a signal: before reading anything of this wake
+    handle_wake();
   }
   (void)out_.flush();  // best effort, never blocking
   if (ahrs_open_) {
@@ -417,73 +429,6 @@ std::string NavdApp::run() {
     (void)ahrs_.write_some(protocols::gx3::encode_stop_continuous());
   }
   return stop_reason_;
-}
-
-std::string NavdApp::stats_line(const std::string& reason) const {
-  std::string s = "navd: stopped (" + reason + "): ahrs packets=" +
-                  std::to_string(ahrs_decoder_.messages()) + " rejects{" +
-                  rejects_text(ahrs_decoder_.rejects()) + "}";
-  if (gps_) {
-    s += "; gps sentences=" + std::to_string(gps_decoder_.messages()) +
-         " gga=" + std::to_string(gps_counts_.gga) + " rmc=" + std::to_string(gps_counts_.rmc) +
-         " vtg=" + std::to_string(gps_counts_.vtg) + " hdt=" + std::to_string(gps_counts_.hdt) +
-         " zda=" + std::to_string(gps_counts_.zda) + " other=" + std::to_string(gps_counts_.other) +
-         " no_fix=" + std::to_string(gps_counts_.no_fix) +
-         " incomplete=" + std::to_string(gps_counts_.incomplete) +
-         " bad_fields=" + std::to_string(gps_counts_.bad_fields) + " rejects{" +
-         rejects_text(gps_decoder_.rejects()) + "}";
-  }
-  for (const auto& e : extras_) {
-    s += "; input " + e.input.name() + "=" + std::string(protocol_name(e.input.protocol())) +
-         " " + e.input.counters_text();
-    if (e.poller) {
-      s += " poll{" + e.poller->counters_text() +
-           " write_errors=" + std::to_string(e.write_errors) + "}";
-    }
-  }
-  if (modem_link_) {
-    s += "; modem{" + modem_link_->counters_text() +
-         " id=" + std::to_string(modem_link_->vehicle_id()) + "}";
-  }
-  if (can_) {
-    s += "; can{iface=" + can_->socket.ifname() + " " + can_->input.counters_text() + "}";
-  }
-  s += "; solutions written=" + std::to_string(out_.written()) +
-       " dropped=" + std::to_string(out_.dropped()) +
-       " unsent=" + std::to_string(out_.queued());
-  if (gps_nav_) {
-    const auto& nav = gps_nav_->stats();
-    s += "; filter ahrs_invalid=" + std::to_string(nav.ahrs_rejected_invalid) +
-         " dt_resets=" + std::to_string(nav.dt_resets) +
-         " gps_pos_fused=" + std::to_string(nav.gps_position_fused) +
-         " gps_vel_fused=" + std::to_string(nav.gps_velocity_fused) +
-         " gps_rejected=" + std::to_string(nav.gps_rejected_invalid + nav.gps_rejected_gate) +
-         " depth_fused=" + std::to_string(nav.depth_fused) +
-         " depth_unanchored=" + std::to_string(nav.depth_unanchored) +
-         " depth_rejected=" + std::to_string(nav.depth_rejected_invalid) +
-         " numerical_faults=" + std::to_string(nav.numerical_faults);
-  } else {
-    const auto& nav = dvl_nav_->stats();
-    s += "; dead_reckoning ahrs_invalid=" + std::to_string(nav.ahrs_rejected_invalid) +
-         " dt_resets=" + std::to_string(nav.dt_resets) +
-         " dvl_used=" + std::to_string(nav.dvl_used) +
-         " dvl_superseded=" + std::to_string(nav.dvl_superseded) +
-         " dvl_rejected=" + std::to_string(nav.dvl_rejected_invalid) +
-         " stale_samples=" + std::to_string(nav.stale_samples) +
-         " depth_used=" + std::to_string(nav.depth_used) +
-         " depth_rejected=" + std::to_string(nav.depth_rejected_invalid);
-  }
-  const estimator::AttitudeFilter& att =
-      gps_nav_ ? gps_nav_->attitude() : dvl_nav_->attitude();
-  const estimator::AttitudeStats& a = att.stats();
-  s += "; attitude " + std::string(estimator::attitude_filter_name(att.kind())) +
-       " steps=" + std::to_string(a.steps) +
-       " rejected_invalid=" + std::to_string(a.rejected_invalid) +
-       " numerical_faults=" + std::to_string(a.numerical_faults) +
-       " singular=" + std::to_string(a.singular) +
-       " accel_rejected=" + std::to_string(a.accel_rejected) +
-       " mag_rejected=" + std::to_string(a.mag_rejected);
-  return s;
 }
 
 }  // namespace nav::dut

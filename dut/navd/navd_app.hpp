@@ -1,48 +1,64 @@
 // SPDX-License-Identifier: MIT
-// navd's event loop: one thread, poll(), non-blocking ports.
+// navd's event loop: one thread, one Boost.Asio io_context, non-blocking ports.
 //
-//   bench/devices ──AHRS 0xCB──▶ [ahrs tty] ─┐
-//                 ──NMEA GGA/RMC▶ [gps tty] ─┤
-//                 ──DVL/USBL/..─▶ [--input] ─┼─ poll() ─▶ wake:
-//   Keller (polled) ◀─requests─▶ [--input] ─┤    1. read every readable input until EAGAIN,
-//   other vehicles ◀─$PNVBPOS──▶ [--modem] ─┤       trigger port (AHRS) first, then GPS,
-//   N2K, wheel encoders ─frames─▶ [--can]   ─┤       then the --input ports in command-line
-//   SIGTERM/SIGINT ──────────────▶ [signalfd]┘       order, then the CAN socket, then the
-//                                                    modem; feed each port's stream decoder
-//                                                    (--input messages, CAN frames and peer
-//                                                    reports are counted and the last one
-//                                                    kept as they are decoded)
-//                                                 2. every decoded GPS sentence → fix queue
-//                                                    (gps-ins navigator), then every Keller
-//                                                    answer → its poller → depth queue, then
-//                                                    the last DVL velocity of each DVL input
-//                                                    → dead reckoning (dvl navigator)
-//                                                 3. every decoded 0xCB packet, in arrival
-//                                                    order: Keller requests due at its timer
-//                                                    → [keller tty], navigator step
-//                                                    (attitude, predict, queued fixes and
-//                                                    depths), the $PNVBPOS due at its timer
-//                                                    → [modem tty], one $PNVBSOL
-//                                                 4. output queue → [output tty] (never blocks)
+//   bench/devices ──AHRS 0xCB──▶ [ahrs tty]  ─┐  one async_wait each; the handler only
+//                 ──NMEA GGA/RMC▶ [gps tty]  ─┤  marks what is ready
+//                 ──DVL/USBL/..─▶ [--input]  ─┤
+//   Keller (polled) ◀─requests─▶ [--input]   ─┤
+//   other vehicles ◀─$PNVBPOS──▶ [--modem]   ─┼─ io.run_one(); io.poll() ─▶ wake (every
+//   N2K, wheel encoders ─frames─▶ [--can]    ─┤  handler ready then has run):
+//   SIGTERM/SIGINT ────────────▶ [signal_set]─┤ 1. read every port marked ready until EAGAIN,
+//   hang-up, room for output ──▶ [output]    ─┘    trigger port (AHRS) first, then GPS,
+//                                                  then the --input ports in command-line
+//                                                  order, then the CAN socket, then the
+//                                                  modem; feed each port's stream decoder
+//                                                  (--input messages, CAN frames and peer
+//                                                  reports are counted and the last one
+//                                                  kept as they are decoded)
+//                                               2. every decoded GPS sentence → fix queue
+//                                                  (gps-ins navigator), then every Keller
+//                                                  answer → its poller → depth queue, then
+//                                                  the last DVL velocity of each DVL input
+//                                                  → dead reckoning (dvl navigator)
+//                                               3. every decoded 0xCB packet, in arrival
+//                                                  order: Keller requests due at its timer
+//                                                  → [keller tty], navigator step
+//                                                  (attitude, predict, queued fixes and
+//                                                  depths), the $PNVBPOS due at its timer
+//                                                  → [modem tty], (--delay-ms: a
+//                                                  steady_timer), one $PNVBSOL
+//                                               4. output queue → [output tty] (never blocks)
+//                                               5. arm the waits of the ports read (and of
+//                                                  the output while sentences wait)
+//
+// The handlers decide nothing: they run in whatever order the io_context hands them out,
+// and only mark; the fixed order of step 1 is the loop's. A signal stops navd before any
+// port of its wake-up is read, or during a --delay-ms sleep.
 //
 // Why this order: the bench makes any aiding bytes (GPS, DVL, Keller answers, ...) that
 // precede a trigger readable before it writes the trigger, so reading the trigger port first
 // and handling every aiding message before AHRS within a wake applies every fix at the same
 // trigger on every run (lockstep determinism). CAN frames are read like the --input ports,
-// before the AHRS packets of the same wake, though nothing from CAN is fused yet. For the polled Keller the bench stamps a
-// request with the scenario time reached when it reads it, so a request is written before
-// the $PNVBSOL of the AHRS packet whose timer made it due: the bench has it when the solution
-// arrives, and the answer comes back before the next trigger it precedes. The modem's
+// before the AHRS packets of the same wake, though nothing from CAN is fused yet. For the
+// polled Keller the bench stamps a request with the scenario time reached when it reads it,
+// so a request is written before the $PNVBSOL of the AHRS packet whose timer made it due:
+// the bench has it when the solution arrives, and the answer comes back before the next
+// trigger it precedes. The modem's
 // position reports follow the same rule (written before the solution of the sample whose
 // timer made them due, so the bench stamps them with that sample's time). No wall clock
-// enters the estimate, the poll or the report schedule; only --delay-ms sleeps, and only
-// before writing.
+// enters the estimate, the wake-ups or the report schedule; only --delay-ms sleeps, and
+// only before writing.
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
+
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/signal_set.hpp>
+#include <boost/asio/steady_timer.hpp>
 
 #include "nav/estimator/dvl_navigator.hpp"
 #include "nav/estimator/navigator.hpp"
@@ -51,6 +67,7 @@
 #include "aiding_input.hpp"
 #include "can_input.hpp"
 #include "config.hpp"
+#include "descriptor_watch.hpp"
 #include "keller_poller.hpp"
 #include "modem_link.hpp"
 #include "nav/transport/can_socket.hpp"
@@ -102,15 +119,18 @@ struct CanPort {
   CanInput input;               ///< N2K, plus the --dbc messages when given
 };
 
-/// The running DUT. Not movable: the output queue refers to the output port it owns.
+/// The running DUT. Not movable: the output queue refers to the output port it owns, and
+/// the waits on `io` refer to the app.
 class NavdApp {
  public:
   /// Takes the opened ports (extras in options.inputs order; modem when options.modem is
-  /// set; can when options.can_iface is set); signal_fd is a signalfd for SIGTERM/SIGINT.
-  NavdApp(const NavdOptions& options, const NavdConfig& config, transport::SerialPort ahrs,
+  /// set; can when options.can_iface is set). `signals` holds SIGTERM and SIGINT; `io`, on
+  /// which `signals` was made, is run by run() only and must outlive the app.
+  NavdApp(boost::asio::io_context& io, boost::asio::signal_set& signals,
+          const NavdOptions& options, const NavdConfig& config, transport::SerialPort ahrs,
           std::optional<transport::SerialPort> gps, std::vector<ExtraPort> extras,
           std::optional<transport::SerialPort> modem, std::optional<CanPort> can,
-          transport::SerialPort output, int signal_fd);
+          transport::SerialPort output);
   NavdApp(const NavdApp&) = delete;
   NavdApp& operator=(const NavdApp&) = delete;
 
@@ -140,23 +160,40 @@ class NavdApp {
   /// Steps the navigator and writes one solution; false when a signal or output hang-up
   /// says to stop.
   bool handle_ahrs(const protocols::gx3::AccelRateMag& m);
+  /// Sleeps --delay-ms on the io_context; false when a signal came meanwhile.
   bool wait_delay();
-  bool signal_pending(int timeout_ms);
   /// Takes every waiting CAN frame (at most kCanFramesPerWake) into the CAN front end.
   void read_can();
+  /// Starts the waits of every open input and of the output not already waiting or ready.
+  void arm_waits();
+  /// Sleeps until a port, the output or a signal is ready, then runs every handler ready.
+  void wait_for_wake();
+  /// Whether a handler has marked something for this wake-up.
+  bool woken() const;
+  /// One wake-up: reads, decodes, handles, writes (steps 1-4 of the diagram).
+  void handle_wake();
 
+  boost::asio::io_context& io_;
+  boost::asio::signal_set& signals_;
+  boost::asio::steady_timer delay_timer_;  ///< --delay-ms
+  bool delay_over_ = false;                ///< delay_timer_ expired
   NavdOptions options_;
   transport::SerialPort ahrs_;
   std::optional<transport::SerialPort> gps_;
   transport::SerialPort output_;
-  int signal_fd_;
+  DescriptorWatch ahrs_watch_;                ///< read
+  std::optional<DescriptorWatch> gps_watch_;  ///< read; set with gps_
+  DescriptorWatch output_watch_;  ///< error (hang-up), write (armed while sentences wait)
   bool ahrs_open_ = true;
   bool gps_open_ = false;
   StreamDecoder<protocols::gx3::AccelRateMag> ahrs_decoder_;
   StreamDecoder<protocols::nmea::Sentence> gps_decoder_;
+  std::vector<protocols::gx3::AccelRateMag> ahrs_msgs_;  ///< decoded in this wake-up
+  std::vector<protocols::nmea::Sentence> gps_msgs_;      ///< decoded in this wake-up
   /// One --input: its port, front end, and whether it is still open.
   struct Extra {
     transport::SerialPort port;
+    std::unique_ptr<DescriptorWatch> watch;  ///< read (a pointer: its waits refer to it)
     AidingInput input;
     bool open = true;
     std::optional<KellerPoller> poller;  ///< for a Keller bus: navd is the master
@@ -172,6 +209,7 @@ class NavdApp {
   /// Decodes modem bytes; logs every peer report heard (one line each on stderr).
   void handle_modem_bytes(protocols::ByteSpan bytes);
   std::optional<transport::SerialPort> modem_;
+  std::optional<DescriptorWatch> modem_watch_;  ///< read; set with modem_
   bool modem_open_ = false;
   std::optional<ModemLink> modem_link_;  ///< set with modem_
   OutputQueue out_;
@@ -190,6 +228,7 @@ class NavdApp {
   std::optional<double> last_heading_deg_;  ///< last HDT heading (not used by the filter) [deg]
   std::string stop_reason_;
   std::optional<CanPort> can_;  ///< --can: the socket and its front end
+  std::optional<DescriptorWatch> can_watch_;  ///< read; set with can_
   bool can_open_ = false;       ///< the socket has not failed
 };
 

@@ -32,7 +32,7 @@ Result<void> OutputQueue::flush() {
     const std::span<const std::uint8_t> rest(data + front_offset_, front.size() - front_offset_);
     auto n = port_.write_some(rest);
     if (!n) return tl::unexpected(n.error());
-    if (*n == 0) break;  // the line is full: try again when poll() reports POLLOUT
+    if (*n == 0) break;  // the line is full: again when it has room (navd waits for it)
     front_offset_ += *n;
     pending_bytes_ -= *n;
     if (front_offset_ == front.size()) {

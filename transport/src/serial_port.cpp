@@ -3,26 +3,45 @@
 
 #include <fcntl.h>
 #include <poll.h>
-#include <termios.h>
+#include <sys/ioctl.h>
 #include <unistd.h>
+
+#include <libserial/SerialPort.h>
 
 #include <algorithm>
 #include <cerrno>
+#include <exception>
 #include <utility>
 
+// LibSerial 1.0.0 (Debian 12's libserial-dev) on ttys and pty slaves, as used here:
+// - Open() opens O_RDWR|O_NOCTTY|O_NONBLOCK (not close-on-exec), sets TIOCEXCL, saves the
+//   settings it finds, applies its raw defaults (c_iflag IGNBRK only, c_oflag 0, c_lflag 0,
+//   CLOCAL|CREAD, 8N1, 115200, VMIN 1, VTIME 0) and flushes both queues: bytes that reached
+//   a pty before the port was opened are dropped, as on a real line.
+// - When open() fails it reports the errno of its own close(-1), "Bad file descriptor",
+//   whatever the cause; when TIOCEXCL fails (not a tty) it throws with the descriptor still
+//   open.
+// - Close(), also run by its destructor, restores the saved settings and throws when that
+//   fails: on a pty slave whose master has closed (hang-up) or a descriptor that is no tty.
+//   From the noexcept destructor that would be std::terminate; see release_line().
+// - Every baud in kBauds has a BaudRate constant, and a pty takes any of them (it stores the
+//   rate and does not pace bytes).
 namespace nav::transport {
 namespace {
 
 struct BaudConstant {
-  int baud;        // [bit/s]
-  speed_t speed;   // termios constant
+  int baud;                      // [bit/s]
+  LibSerial::BaudRate constant;  // LibSerial's name for it
 };
 
 // Common rates from NMEA's 4800 to USB-serial adapters' 921600.
 constexpr BaudConstant kBauds[] = {
-    {4800, B4800},     {9600, B9600},     {19200, B19200},   {38400, B38400},
-    {57600, B57600},   {115200, B115200}, {230400, B230400}, {460800, B460800},
-    {500000, B500000}, {576000, B576000}, {921600, B921600},
+    {4800, LibSerial::BaudRate::BAUD_4800},     {9600, LibSerial::BaudRate::BAUD_9600},
+    {19200, LibSerial::BaudRate::BAUD_19200},   {38400, LibSerial::BaudRate::BAUD_38400},
+    {57600, LibSerial::BaudRate::BAUD_57600},   {115200, LibSerial::BaudRate::BAUD_115200},
+    {230400, LibSerial::BaudRate::BAUD_230400}, {460800, LibSerial::BaudRate::BAUD_460800},
+    {500000, LibSerial::BaudRate::BAUD_500000}, {576000, LibSerial::BaudRate::BAUD_576000},
+    {921600, LibSerial::BaudRate::BAUD_921600},
 };
 
 std::string bauds_list() {
@@ -37,6 +56,41 @@ std::string bauds_list() {
 tl::unexpected<Error> os_error(const std::string& what, const std::string& path, int err) {
   const ErrorCode code = err == ENOENT ? ErrorCode::kNotFound : ErrorCode::kIo;
   return fail(code, what + " " + path + ": " + std::generic_category().message(err));
+}
+
+/// Closes a LibSerial port that may be open, without throwing. Close() restores the settings
+/// saved at Open(); when it cannot (hang-up, no tty) the descriptor stays open and the
+/// object's destructor would call Close() again and terminate the process. Such a port's
+/// descriptor is closed here and the object itself kept, unreachable by anyone else, until
+/// the process exits (a few bytes, at most once per port).
+void release_line(std::unique_ptr<LibSerial::SerialPort> line) noexcept {
+  if (!line || !line->IsOpen()) return;
+  try {
+    line->Close();
+    return;
+  } catch (const std::exception&) {
+    // Settings not restored: the line is gone or was never a tty.
+  }
+  try {
+    ::close(line->GetFileDescriptor());
+  } catch (const std::exception&) {
+    // Not open after all: nothing to close.
+  }
+  static auto* const kept = new std::vector<LibSerial::SerialPort*>();
+  try {
+    kept->push_back(line.get());
+    (void)line.release();
+  } catch (const std::exception&) {
+    // No memory to keep it: let its destructor run (it only throws while still open).
+  }
+}
+
+/// Why open(2) fails on `path`: LibSerial's message does not say (see above).
+tl::unexpected<Error> open_error(const std::string& path, const std::exception& e) {
+  const int fd = ::open(path.c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) return os_error("cannot open", path, errno);
+  ::close(fd);  // opens now: report what LibSerial said
+  return fail(ErrorCode::kIo, "cannot open " + path + ": " + e.what());
 }
 
 }  // namespace
@@ -55,41 +109,60 @@ Result<SerialPort> SerialPort::open(const std::string& path, int baud) {
                                                  " for " + path + " (supported: " +
                                                  bauds_list() + ")");
   }
-  const int fd = ::open(path.c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
-  if (fd < 0) return os_error("cannot open", path, errno);
-  // From here the port owns fd, so every early return closes it.
-  SerialPort port(fd, path, baud);
-
-  termios tio{};
-  if (::tcgetattr(fd, &tio) != 0) {
-    const int err = errno;
-    return fail(ErrorCode::kIo, "cannot use " + path + " as a serial port: " +
-                                    std::generic_category().message(err));
+  auto line = std::make_unique<LibSerial::SerialPort>();
+  try {
+    line->Open(path);
+  } catch (const std::exception& e) {
+    if (!line->IsOpen()) return open_error(path, e);
+    release_line(std::move(line));
+    return fail(ErrorCode::kIo, "cannot use " + path + " as a serial port: " + e.what());
   }
-  ::cfmakeraw(&tio);                     // no echo, no line editing, no CR/LF translation
-  tio.c_cflag &= ~(CSIZE | PARENB | CSTOPB | CRTSCTS);
-  tio.c_cflag |= CS8 | CLOCAL | CREAD;   // 8N1, ignore modem lines, enable receiver
-  tio.c_iflag &= ~(IXON | IXOFF | IXANY);
-  // VMIN 1 / VTIME 0: with O_NONBLOCK a read without data fails with EAGAIN. (VMIN 0 would
-  // make it return 0, indistinguishable from end of file.)
-  tio.c_cc[VMIN] = 1;
-  tio.c_cc[VTIME] = 0;
-  if (::cfsetispeed(&tio, it->speed) != 0 || ::cfsetospeed(&tio, it->speed) != 0) {
-    return os_error("cannot set baud " + std::to_string(baud) + " on", path, errno);
+  const int fd = line->GetFileDescriptor();
+  // From here the port owns the line, so every early return closes it.
+  SerialPort port(std::move(line), path, baud);
+  try {
+    port.line_->SetBaudRate(it->constant);
+  } catch (const std::exception& e) {
+    return fail(ErrorCode::kIo,
+                "cannot set baud " + std::to_string(baud) + " on " + path + ": " + e.what());
   }
-  if (::tcsetattr(fd, TCSANOW, &tio) != 0) return os_error("cannot configure", path, errno);
+  try {
+    port.line_->SetCharacterSize(LibSerial::CharacterSize::CHAR_SIZE_8);
+    port.line_->SetParity(LibSerial::Parity::PARITY_NONE);
+    port.line_->SetStopBits(LibSerial::StopBits::STOP_BITS_1);
+    port.line_->SetFlowControl(LibSerial::FlowControl::FLOW_CONTROL_NONE);
+    // VMIN 1 / VTIME 0: with O_NONBLOCK a read without data fails with EAGAIN. (VMIN 0 would
+    // make it return 0, indistinguishable from end of file.)
+    port.line_->SetVMin(1);
+    port.line_->SetVTime(0);
+  } catch (const std::exception& e) {
+    return fail(ErrorCode::kIo, "cannot configure " + path + ": " + e.what());
+  }
+  // Not exclusive: TIOCEXCL outlives the process on a pty the bench keeps open, so a DUT
+  // restarted on it (a restart fault) could not open it again without CAP_SYS_ADMIN. Not
+  // inherited by a child (the bench starts the DUT). Non-blocking whatever LibSerial does.
+  const int flags = ::fcntl(fd, F_GETFL);
+  if (::ioctl(fd, TIOCNXCL) != 0 || ::fcntl(fd, F_SETFD, FD_CLOEXEC) != 0 || flags < 0 ||
+      ::fcntl(fd, F_SETFL, flags | O_NONBLOCK) != 0) {
+    return os_error("cannot configure", path, errno);
+  }
   return port;
 }
 
-SerialPort::SerialPort(int fd, std::string path, int baud)
-    : fd_(fd), path_(std::move(path)), baud_(baud) {}
+SerialPort::SerialPort(std::unique_ptr<LibSerial::SerialPort> line, std::string path, int baud)
+    : line_(std::move(line)), fd_(line_->GetFileDescriptor()), path_(std::move(path)),
+      baud_(baud) {}
 
 SerialPort::SerialPort(SerialPort&& other) noexcept
-    : fd_(std::exchange(other.fd_, -1)), path_(std::move(other.path_)), baud_(other.baud_) {}
+    : line_(std::move(other.line_)),
+      fd_(std::exchange(other.fd_, -1)),
+      path_(std::move(other.path_)),
+      baud_(other.baud_) {}
 
 SerialPort& SerialPort::operator=(SerialPort&& other) noexcept {
   if (this != &other) {
-    close_fd();
+    close_line();
+    line_ = std::move(other.line_);
     fd_ = std::exchange(other.fd_, -1);
     path_ = std::move(other.path_);
     baud_ = other.baud_;
@@ -97,10 +170,10 @@ SerialPort& SerialPort::operator=(SerialPort&& other) noexcept {
   return *this;
 }
 
-SerialPort::~SerialPort() { close_fd(); }
+SerialPort::~SerialPort() { close_line(); }
 
-void SerialPort::close_fd() {
-  if (fd_ >= 0) ::close(fd_);
+void SerialPort::close_line() {
+  release_line(std::move(line_));
   fd_ = -1;
 }
 

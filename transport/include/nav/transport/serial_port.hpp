@@ -1,28 +1,36 @@
 // SPDX-License-Identifier: MIT
 // A serial line: a real tty (/dev/ttyUSB0) or the slave side of a pty (/dev/pts/N), opened
-// non-blocking and configured raw 8N1 at a given baud. The port owns its file descriptor
-// (RAII, move-only); callers poll() on fd() and then call read_some()/write_some(), which
-// never block.
+// and configured raw 8N1 at a given baud by LibSerial (LibSerial::SerialPort), then used
+// through its file descriptor, non-blocking. The port owns the LibSerial port (RAII,
+// move-only); callers wait on fd() (poll(), or an Asio stream_descriptor) and then call
+// read_some()/write_some(), which never block.
 #pragma once
 
 #include <chrono>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
 
 #include "nav/common/result.hpp"
 
+namespace LibSerial {
+class SerialPort;
+}  // namespace LibSerial
+
 namespace nav::transport {
 
 /// An open serial line (raw, 8N1, no flow control, receiver on, modem lines ignored).
 class SerialPort {
  public:
-  /// Opens `path` O_RDWR|O_NOCTTY|O_NONBLOCK|O_CLOEXEC and applies cfmakeraw, 8N1,
-  /// CLOCAL|CREAD and `baud` [bit/s] in both directions. Errors are one line naming the
-  /// path, e.g. "cannot open /dev/ttyUSB9: No such file or directory", or naming the baud
-  /// when it has no termios constant.
+  /// Opens `path` with LibSerial (O_RDWR|O_NOCTTY|O_NONBLOCK; raw: no echo, no line editing,
+  /// no CR/LF translation, breaks ignored; both queues flushed) and sets `baud` [bit/s], 8
+  /// data bits, no parity, 1 stop bit, no flow control, CLOCAL|CREAD, VMIN 1 / VTIME 0. The
+  /// descriptor is then made close-on-exec and not exclusive (see serial_port.cpp). Errors
+  /// are one line naming the path, e.g. "cannot open /dev/ttyUSB9: No such file or
+  /// directory", or naming the baud when it is not one of supported_bauds().
   static Result<SerialPort> open(const std::string& path, int baud);
 
   /// Bauds open() accepts, ascending [bit/s].
@@ -49,7 +57,7 @@ class SerialPort {
   Result<void> write_all(std::span<const std::uint8_t> bytes,
                          std::chrono::milliseconds timeout = std::chrono::milliseconds(1000));
 
-  /// The file descriptor, for poll(); -1 after a move.
+  /// The file descriptor, for poll() or an Asio descriptor; -1 after a move.
   int fd() const { return fd_; }
   /// The path it was opened with.
   const std::string& path() const { return path_; }
@@ -57,10 +65,11 @@ class SerialPort {
   int baud() const { return baud_; }
 
  private:
-  SerialPort(int fd, std::string path, int baud);
-  void close_fd();
+  SerialPort(std::unique_ptr<LibSerial::SerialPort> line, std::string path, int baud);
+  void close_line();
 
-  int fd_ = -1;
+  std::unique_ptr<LibSerial::SerialPort> line_;  ///< owns the descriptor; null after a move
+  int fd_ = -1;                                  ///< line_'s descriptor
   std::string path_;
   int baud_ = 0;
 };

@@ -1,0 +1,86 @@
+// SPDX-License-Identifier: MIT
+// navd's exit summary: the one line on stderr with every port's counters
+// (docs/dut-contract.md §7).
+#include <string>
+
+#include "navd_app.hpp"
+
+namespace nav::dut {
+namespace {
+
+std::string rejects_text(const RejectCounts& r) {
+  return "checksum=" + std::to_string(r.checksum) + " framing=" + std::to_string(r.framing) +
+         " sync_bytes=" + std::to_string(r.sync_bytes) +
+         " overflow_bytes=" + std::to_string(r.overflow_bytes);
+}
+
+}  // namespace
+
+std::string NavdApp::stats_line(const std::string& reason) const {
+  std::string s = "navd: stopped (" + reason + "): ahrs packets=" +
+                  std::to_string(ahrs_decoder_.messages()) + " rejects{" +
+                  rejects_text(ahrs_decoder_.rejects()) + "}";
+  if (gps_) {
+    s += "; gps sentences=" + std::to_string(gps_decoder_.messages()) +
+         " gga=" + std::to_string(gps_counts_.gga) + " rmc=" + std::to_string(gps_counts_.rmc) +
+         " vtg=" + std::to_string(gps_counts_.vtg) + " hdt=" + std::to_string(gps_counts_.hdt) +
+         " zda=" + std::to_string(gps_counts_.zda) + " other=" + std::to_string(gps_counts_.other) +
+         " no_fix=" + std::to_string(gps_counts_.no_fix) +
+         " incomplete=" + std::to_string(gps_counts_.incomplete) +
+         " bad_fields=" + std::to_string(gps_counts_.bad_fields) + " rejects{" +
+         rejects_text(gps_decoder_.rejects()) + "}";
+  }
+  for (const auto& e : extras_) {
+    s += "; input " + e.input.name() + "=" + std::string(protocol_name(e.input.protocol())) +
+         " " + e.input.counters_text();
+    if (e.poller) {
+      s += " poll{" + e.poller->counters_text() +
+           " write_errors=" + std::to_string(e.write_errors) + "}";
+    }
+  }
+  if (modem_link_) {
+    s += "; modem{" + modem_link_->counters_text() +
+         " id=" + std::to_string(modem_link_->vehicle_id()) + "}";
+  }
+  if (can_) {
+    s += "; can{iface=" + can_->socket.ifname() + " " + can_->input.counters_text() + "}";
+  }
+  s += "; solutions written=" + std::to_string(out_.written()) +
+       " dropped=" + std::to_string(out_.dropped()) +
+       " unsent=" + std::to_string(out_.queued());
+  if (gps_nav_) {
+    const auto& nav = gps_nav_->stats();
+    s += "; filter ahrs_invalid=" + std::to_string(nav.ahrs_rejected_invalid) +
+         " dt_resets=" + std::to_string(nav.dt_resets) +
+         " gps_pos_fused=" + std::to_string(nav.gps_position_fused) +
+         " gps_vel_fused=" + std::to_string(nav.gps_velocity_fused) +
+         " gps_rejected=" + std::to_string(nav.gps_rejected_invalid + nav.gps_rejected_gate) +
+         " depth_fused=" + std::to_string(nav.depth_fused) +
+         " depth_unanchored=" + std::to_string(nav.depth_unanchored) +
+         " depth_rejected=" + std::to_string(nav.depth_rejected_invalid) +
+         " numerical_faults=" + std::to_string(nav.numerical_faults);
+  } else {
+    const auto& nav = dvl_nav_->stats();
+    s += "; dead_reckoning ahrs_invalid=" + std::to_string(nav.ahrs_rejected_invalid) +
+         " dt_resets=" + std::to_string(nav.dt_resets) +
+         " dvl_used=" + std::to_string(nav.dvl_used) +
+         " dvl_superseded=" + std::to_string(nav.dvl_superseded) +
+         " dvl_rejected=" + std::to_string(nav.dvl_rejected_invalid) +
+         " stale_samples=" + std::to_string(nav.stale_samples) +
+         " depth_used=" + std::to_string(nav.depth_used) +
+         " depth_rejected=" + std::to_string(nav.depth_rejected_invalid);
+  }
+  const estimator::AttitudeFilter& att =
+      gps_nav_ ? gps_nav_->attitude() : dvl_nav_->attitude();
+  const estimator::AttitudeStats& a = att.stats();
+  s += "; attitude " + std::string(estimator::attitude_filter_name(att.kind())) +
+       " steps=" + std::to_string(a.steps) +
+       " rejected_invalid=" + std::to_string(a.rejected_invalid) +
+       " numerical_faults=" + std::to_string(a.numerical_faults) +
+       " singular=" + std::to_string(a.singular) +
+       " accel_rejected=" + std::to_string(a.accel_rejected) +
+       " mag_rejected=" + std::to_string(a.mag_rejected);
+  return s;
+}
+
+}  // namespace nav::dut
