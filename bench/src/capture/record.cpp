@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "nav/bench/record.hpp"
 
-#include <poll.h>
 #include <signal.h>
 #include <unistd.h>
 
@@ -12,9 +11,15 @@
 #include <cstring>
 #include <filesystem>
 #include <ctime>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <vector>
+
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/posix/stream_descriptor.hpp>
+#include <boost/asio/signal_set.hpp>
+#include <boost/asio/steady_timer.hpp>
 
 #include "nav/bench/capture.hpp"
 #include "nav/bench/replay.hpp"
@@ -27,12 +32,9 @@
 namespace nav::bench {
 namespace {
 
-using namespace std::chrono_literals;
+namespace asio = boost::asio;
 
-std::atomic<bool> g_stop{false};
-extern "C" void on_record_signal(int) { g_stop = true; }
-
-constexpr Duration kPollSlice = 100ms;  // longest poll; bounds the reaction to a signal
+std::atomic<bool> g_stop{false};  ///< a SIGINT or SIGTERM ended the record
 
 struct Port {
   std::string name;
@@ -81,21 +83,17 @@ std::unique_ptr<std::FILE, int (*)(std::FILE*)> open_partial(const std::string& 
   return f;
 }
 
-/// SIGINT and SIGTERM set g_stop.
-void stop_on_signals() {
-  struct sigaction sa {};
-  sa.sa_handler = on_record_signal;  // no SA_RESTART: poll() returns EINTR at once
-  ::sigaction(SIGINT, &sa, nullptr);
-  ::sigaction(SIGTERM, &sa, nullptr);
-}
-
-/// A record's output (the .partial until finish_file) and its clock.
+/// A record's output (the .partial until finish_file), its clock and its event loop.
 struct Recording {
   std::string partial;
   std::unique_ptr<std::FILE, int (*)(std::FILE*)> f;
   Timestamp start;
   bool bounded;  ///< a --duration was given
   Timestamp end;
+  std::unique_ptr<asio::io_context> io;
+  /// SIGINT and SIGTERM: set g_stop and stop the loop. Held to the end of the record, so that
+  /// a signal while the file is finished is caught, not fatal.
+  std::unique_ptr<asio::signal_set> signals;
 };
 
 /// Opens the .partial, makes SIGINT and SIGTERM set g_stop and starts the clock; empty
@@ -103,10 +101,16 @@ struct Recording {
 std::optional<Recording> begin_recording(const RecordOptions& o) {
   auto f = open_partial(o.out_path + ".partial");
   if (!f) return std::nullopt;
-  stop_on_signals();
+  auto io = std::make_unique<asio::io_context>();
+  auto signals = std::make_unique<asio::signal_set>(*io, SIGINT, SIGTERM);
+  signals->async_wait([io = io.get()](const boost::system::error_code& ec, int) {
+    if (ec) return;
+    g_stop = true;
+    io->stop();
+  });
   const Timestamp start = monotonic_now();
   return Recording{o.out_path + ".partial", std::move(f), start, o.duration_s > 0.0,
-                   start + from_seconds(o.duration_s)};
+                   start + from_seconds(o.duration_s), std::move(io), std::move(signals)};
 }
 
 /// Prints a record's last line: `parts` (per port), then "; TOTAL UNIT in S s -> OUT".
@@ -120,38 +124,55 @@ void print_summary(std::string parts, std::size_t total, const char* unit, doubl
   std::fflush(stdout);
 }
 
-/// The record loop of serial ports and CAN interfaces alike: polls the ports still open (empty
-/// `closed`) in slices of at most kPollSlice until `end` (if `bounded`), a signal, every port
-/// closed, or a write error on `f`; `read_ready(port)` reads a port poll() found readable.
-/// True if writing `f` failed.
+/// The record loop of serial ports and CAN interfaces alike, on the record's io_context:
+///
+///   each port still open (empty `closed`): posix::stream_descriptor::async_wait(wait_read)
+///       --> read_ready(port) reads it --> wait again, unless it closed or `f` failed
+///   steady_timer at `end` (if `bounded`), signal_set (begin_recording), every port closed,
+///   a write error on `f` --> io.stop()
+///
+/// True if writing `f` failed. The ports keep their fds.
 template <class P, class ReadReady>
-bool poll_ports(std::vector<P>& ports, int (*fd_of)(const P&), std::FILE* f, bool bounded,
-                Timestamp end, ReadReady read_ready) {
-  std::vector<pollfd> fds;
-  std::vector<std::size_t> which;
-  for (;;) {
-    if (g_stop) return false;
-    const Timestamp now = monotonic_now();
-    if (bounded && now >= end) return false;
-    fds.clear();
-    which.clear();
-    for (std::size_t i = 0; i < ports.size(); ++i) {
-      if (!ports[i].closed.empty()) continue;
-      fds.push_back(pollfd{fd_of(ports[i]), POLLIN, 0});
-      which.push_back(i);
-    }
-    if (fds.empty()) return false;  // every port hung up or failed
-    Duration wait = kPollSlice;
-    if (bounded) wait = std::min(wait, end - now);
-    const int timeout_ms =
-        static_cast<int>(std::max<std::int64_t>(1, (wait.count() + 999'999) / 1'000'000));
-    const int r = ::poll(fds.data(), fds.size(), timeout_ms);
-    if (r <= 0) continue;  // timeout or EINTR
-    for (std::size_t k = 0; k < fds.size(); ++k) {
-      if (fds[k].revents != 0) read_ready(ports[which[k]]);
-    }
-    if (std::ferror(f)) return true;
+bool watch_ports(std::vector<P>& ports, int (*fd_of)(const P&), std::FILE* f, bool bounded,
+                 Timestamp end, asio::io_context& io, ReadReady read_ready) {
+  using Descriptor = asio::posix::stream_descriptor;
+  if (g_stop) return false;
+  asio::steady_timer deadline(io);
+  if (bounded) {
+    deadline.expires_at(std::chrono::steady_clock::time_point(
+        std::chrono::duration_cast<std::chrono::steady_clock::duration>(end)));
+    deadline.async_wait([&](const boost::system::error_code& ec) {
+      if (!ec) io.stop();
+    });
   }
+  std::vector<std::unique_ptr<Descriptor>> fds(ports.size());
+  std::size_t open = 0;
+  bool write_failed = false;
+  std::function<void(std::size_t)> wait_readable = [&](std::size_t i) {
+    fds[i]->async_wait(Descriptor::wait_read, [&, i](const boost::system::error_code& ec) {
+      if (ec) return;
+      read_ready(ports[i]);
+      if (std::ferror(f)) {
+        write_failed = true;
+        io.stop();
+      } else if (!ports[i].closed.empty()) {
+        if (--open == 0) io.stop();  // every port hung up or failed
+      } else {
+        wait_readable(i);
+      }
+    });
+  };
+  for (std::size_t i = 0; i < ports.size(); ++i) {
+    if (!ports[i].closed.empty()) continue;
+    fds[i] = std::make_unique<Descriptor>(io, fd_of(ports[i]));
+    ++open;
+    wait_readable(i);
+  }
+  if (open > 0) io.run();
+  for (auto& d : fds) {
+    if (d) (void)d->release();
+  }
+  return write_failed;
 }
 
 /// `record --can IFACE...`: a candump -l log of the frames received on the interfaces.
@@ -175,14 +196,14 @@ int record_can(const RecordOptions& o) {
   }
   auto session = begin_recording(o);
   if (!session) return kExitBench;
-  auto& [partial, f, start, bounded, end] = *session;
+  auto& [partial, f, start, bounded, end, io, signals] = *session;
   for (const auto& p : ports) std::printf("recording CAN %s\n", p.socket.ifname().c_str());
   std::printf("recording to %s%s\n", o.out_path.c_str(), bounded ? "" : " until SIGINT/SIGTERM");
   std::fflush(stdout);
 
   namespace cd = protocols::candump;
-  const bool write_failed = poll_ports(
-      ports, +[](const CanPort& p) { return p.socket.fd(); }, f.get(), bounded, end,
+  const bool write_failed = watch_ports(
+      ports, +[](const CanPort& p) { return p.socket.fd(); }, f.get(), bounded, end, *io,
       [&](CanPort& p) {
         for (;;) {
           auto got = p.socket.receive();
@@ -287,7 +308,7 @@ int record_ports(const RecordOptions& o) {
 
   auto session = begin_recording(o);
   if (!session) return kExitBench;
-  auto& [partial, f, start, bounded, end] = *session;
+  auto& [partial, f, start, bounded, end, io, signals] = *session;
   for (const auto& p : ports) {
     std::printf("recording %s (%s @ %d)\n", p.name.c_str(), p.serial.path().c_str(),
                 p.serial.baud());
@@ -297,8 +318,8 @@ int record_ports(const RecordOptions& o) {
   std::fflush(stdout);
 
   std::uint8_t buf[4096];
-  const bool write_failed = poll_ports(
-      ports, +[](const Port& p) { return p.serial.fd(); }, f.get(), bounded, end,
+  const bool write_failed = watch_ports(
+      ports, +[](const Port& p) { return p.serial.fd(); }, f.get(), bounded, end, *io,
       [&](Port& p) {
         for (;;) {
           auto n = p.serial.read_some(buf);

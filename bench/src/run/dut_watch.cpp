@@ -5,7 +5,6 @@
 #include <chrono>
 #include <cstdio>
 #include <stdexcept>
-#include <thread>
 
 #include "devices/device_kind.hpp"
 
@@ -13,8 +12,8 @@ namespace nav::bench::detail {
 
 DutWatch::DutWatch(const Scenario& sc, const std::vector<RunDevice>& devices,
                    const VehicleTruths& truths,
-                   const std::atomic<bool>& stop)
-    : sc_(sc), devices_(devices), stop_(stop) {
+                   const std::atomic<bool>& stop, EventLoop& loop)
+    : sc_(sc), devices_(devices), stop_(stop), loop_(loop) {
   for (std::uint32_t v = 0; v <= sc.peers.size(); ++v) {
     Vehicle veh;
     veh.name = v == 0 ? sc.vehicle_name : sc.peers[v - 1].vehicle_name;
@@ -65,7 +64,8 @@ void DutWatch::start(const std::vector<BenchLine>& lines, const std::filesystem:
     veh.proc = std::make_unique<DutProcess>(std::move(*dut));
     if (v > 0) veh.output_capture = open_file(dir / ("capture-rx-" + veh.name + ".log"));
     veh.reader = std::make_unique<OutputReader>(
-        lines[veh.output_line].fd(), v == 0 ? log.rx.get() : veh.output_capture.get(), t0);
+        lines[veh.output_line].fd(), v == 0 ? log.rx.get() : veh.output_capture.get(), t0,
+        &loop_);
     veh.reader->start();
   }
 }
@@ -113,20 +113,22 @@ void DutWatch::set_hung(Vehicle& v, std::string status) {
 void DutWatch::drain() {
   // Not "as many answers as triggers": a DUT that answers repeated packets too reaches that
   // count before its last answer.
+  // The player waits here; the step runs on the loop thread, at each answer and every 5 ms.
   using namespace std::chrono_literals;
   const Timestamp end = monotonic_now() + max_watchdog();
-  while (!stop_ && ok(monotonic_now())) {
+  for (auto& v : vehicles_) v.reader->set_on_answer([this] { loop_.poke(); });
+  loop_.wait_until(end, 5ms, [this] {
     const Timestamp now = monotonic_now();
-    const bool done = std::all_of(vehicles_.begin(), vehicles_.end(), [&](const Vehicle& v) {
+    if (stop_ || !ok(now)) return true;
+    return std::all_of(vehicles_.begin(), vehicles_.end(), [&](const Vehicle& v) {
       // As many answers naming the last tag as it was owed (a wrapped tag is owed again).
       const auto owed = v.answers_expected.find(v.last_trigger_tag);
       return v.triggers_sent == 0 ||
              v.reader->wait_for(v.last_trigger_tag, now,
                                 owed == v.answers_expected.end() ? 1 : owed->second);
     });
-    if (done || now >= end) return;
-    std::this_thread::sleep_for(5ms);
-  }
+  });
+  for (auto& v : vehicles_) v.reader->set_on_answer(nullptr);
 }
 
 Duration DutWatch::max_watchdog() const {

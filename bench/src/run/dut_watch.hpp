@@ -1,11 +1,14 @@
 // SPDX-License-Identifier: MIT
 // The vehicles of a run and their DUTs: each DUT started as a child process on its lines, its
-// output read on its own thread, watched for a crash or a hang, drained at the end and
-// stopped. Private to nav_bench.
+// output read on the bench's event loop, watched for a crash or a hang, drained at the end
+// and stopped. Private to nav_bench.
 //
 //   start(): argv with {port:NAME} -> the lines' paths; dut.log / dut-<peer>.log; readers
-//   ok(now): crashed (exited) or hung (a trigger unanswered for longer than the watchdog)
-//   drain(): after the last message, until each DUT answered its last trigger
+//   ok(now): crashed (exited) or hung (a trigger unanswered for longer than the watchdog);
+//            called by the player at its own points, so lockstep sees the same order
+//   drain(): after the last message, on the event loop: done at the answer to each DUT's last
+//            trigger (the readers poke it), or at the deadline timer one watchdog on, or at
+//            a crash or a signal (looked at every 5 ms)
 #pragma once
 
 #include <atomic>
@@ -22,6 +25,7 @@
 #include "nav/bench/output_reader.hpp"
 #include "nav/bench/scenario.hpp"
 #include "run/device_streams.hpp"
+#include "run/event_loop.hpp"
 #include "run/run_log.hpp"
 
 namespace nav::bench::detail {
@@ -56,9 +60,10 @@ struct Vehicle {
 
 class DutWatch {
  public:
-  /// stop: set by SIGINT/SIGTERM; every wait ends when it is.
+  /// stop: set by SIGINT/SIGTERM; every wait ends when it is. loop: where the output readers
+  /// read and the drain waits.
   DutWatch(const Scenario& sc, const std::vector<RunDevice>& devices,
-           const VehicleTruths& truths, const std::atomic<bool>& stop);
+           const VehicleTruths& truths, const std::atomic<bool>& stop, EventLoop& loop);
 
   std::vector<Vehicle>& vehicles() { return vehicles_; }
   const std::vector<Vehicle>& vehicles() const { return vehicles_; }
@@ -97,6 +102,7 @@ class DutWatch {
   const Scenario& sc_;
   const std::vector<RunDevice>& devices_;
   const std::atomic<bool>& stop_;
+  EventLoop& loop_;
   std::vector<Vehicle> vehicles_;
   Timestamp t0_{};
   bool crashed_ = false, hung_ = false;

@@ -1,59 +1,133 @@
 // SPDX-License-Identifier: MIT
 #include "nav/bench/output_reader.hpp"
 
-#include <poll.h>
 #include <unistd.h>
 
 #include <algorithm>
-#include <cerrno>
+#include <array>
 #include <chrono>
+#include <future>
+#include <span>
+
+#include <boost/asio/buffer.hpp>
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/posix/stream_descriptor.hpp>
+#include <boost/asio/steady_timer.hpp>
 
 #include "nav/bench/capture.hpp"
 #include "nav/protocols/nmea0183.hpp"
+#include "run/event_loop.hpp"
 
 namespace nav::bench {
 
+namespace asio = boost::asio;
+using namespace std::chrono_literals;
 
-OutputReader::OutputReader(int fd, std::FILE* capture, Timestamp t0)
-    : fd_(fd), capture_(capture), t0_(t0) {}
-
-OutputReader::~OutputReader() { stop(); }
-
-void OutputReader::start() { thread_ = std::thread([this] { loop(); }); }
-
-void OutputReader::stop() {
-  {
-    std::lock_guard lock(mutex_);
-    stop_ = true;
+// Reading, on the loop thread; one operation outstanding at any time, a read or a retry:
+//
+//   start() --> read_next(): async_read_some --(bytes)--> on_read(), read_next()
+//                                             --(EOF, EIO: no writer now)--> retry in 20 ms
+//   stop()  --> stopping; cancel --> the outstanding operation completes --> finish():
+//               what is still buffered is read, the capture flushed, the fd given back
+struct OutputReader::Io {
+  Io(EventLoop& l, int fd) : loop(l), descriptor(l.context(), fd), retry(l.context()) {}
+  ~Io() {
+    if (descriptor.is_open()) (void)descriptor.release();  // the fd stays the caller's
   }
-  if (thread_.joinable()) thread_.join();
+  EventLoop& loop;
+  asio::posix::stream_descriptor descriptor;
+  asio::steady_timer retry;
+  std::array<std::uint8_t, 4096> chunk{};
+  std::function<void()> on_answer;
+  bool started = false, stopping = false;
+  std::promise<void> stopped;
+};
+
+OutputReader::OutputReader(int fd, std::FILE* capture, Timestamp t0, EventLoop* loop)
+    : fd_(fd), capture_(capture), t0_(t0) {
+  if (!loop) {
+    own_loop_ = std::make_unique<EventLoop>();
+    loop = own_loop_.get();
+  }
+  loop->call([&] { io_ = std::make_unique<Io>(*loop, fd); });
 }
 
-void OutputReader::loop() {
-  std::uint8_t chunk[4096];
+OutputReader::~OutputReader() {
+  stop();
+  io_->loop.call([&] { io_.reset(); });
+}
+
+void OutputReader::start() {
+  io_->loop.call([this] {
+    io_->started = true;
+    read_next();
+  });
+}
+
+void OutputReader::read_next() {
+  io_->descriptor.async_read_some(
+      asio::buffer(io_->chunk), [this](const boost::system::error_code& ec, std::size_t n) {
+        const Timestamp rx = monotonic_now();
+        if (!ec && n > 0) on_read(io_->chunk.data(), n, rx);
+        if (io_->stopping) {
+          finish();
+        } else if (!ec) {
+          read_next();
+        } else {
+          // EOF or EIO: no writer at the moment (a real line hung up); look again later.
+          io_->retry.expires_after(20ms);
+          io_->retry.async_wait([this](const boost::system::error_code&) {
+            if (io_->stopping) {
+              finish();
+            } else {
+              read_next();
+            }
+          });
+        }
+      });
+}
+
+void OutputReader::finish() {
+  // Whatever arrived before stop() was called is read here; the capture is flushed.
   for (;;) {
-    {
-      std::lock_guard lock(mutex_);
-      if (stop_) break;
-    }
-    pollfd p{fd_, POLLIN, 0};
-    const int r = ::poll(&p, 1, 20);
-    if (r <= 0 || !(p.revents & POLLIN)) continue;
-    for (;;) {
-      const ssize_t n = ::read(fd_, chunk, sizeof chunk);
-      if (n <= 0) break;  // EAGAIN: drained; EIO: no writer at the moment
-      const Timestamp rx = monotonic_now();
-      write_capture_line(capture_, rx - t0_, "output",
-                         std::span(chunk, static_cast<std::size_t>(n)));
-      std::lock_guard lock(mutex_);
-      buffer_.insert(buffer_.end(), chunk, chunk + n);
-      consume(rx);
-    }
-    std::fflush(capture_);
-    cv_.notify_all();
+    const ssize_t n = ::read(fd_, io_->chunk.data(), io_->chunk.size());
+    if (n <= 0) break;  // EAGAIN: drained; EIO: no writer at the moment
+    on_read(io_->chunk.data(), static_cast<std::size_t>(n), monotonic_now());
   }
-  // Whatever arrived before stop() was called has been read above; flush the capture.
   std::fflush(capture_);
+  (void)io_->descriptor.release();
+  io_->stopped.set_value();
+}
+
+void OutputReader::stop() {
+  std::future<void> stopped;
+  io_->loop.call([&] {
+    if (!io_->started || io_->stopping) return;
+    io_->stopping = true;
+    stopped = io_->stopped.get_future();
+    io_->descriptor.cancel();
+    io_->retry.cancel();
+  });
+  if (stopped.valid()) stopped.wait();
+}
+
+void OutputReader::set_on_answer(std::function<void()> f) {
+  io_->loop.call([&] { io_->on_answer = std::move(f); });
+}
+
+void OutputReader::on_read(const std::uint8_t* data, std::size_t n, Timestamp rx) {
+  write_capture_line(capture_, rx - t0_, "output", std::span(data, n));
+  bool answered = false;
+  {
+    std::lock_guard lock(mutex_);
+    const std::size_t before = answers_.size();
+    buffer_.insert(buffer_.end(), data, data + n);
+    consume(rx);
+    answered = answers_.size() > before;
+  }
+  std::fflush(capture_);
+  cv_.notify_all();
+  if (answered && io_->on_answer) io_->on_answer();
 }
 
 void OutputReader::consume(Timestamp rx) {

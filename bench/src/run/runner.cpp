@@ -9,6 +9,10 @@
 //                              polled answers, the acoustic channel) served while it waits
 //   dut_watch: the DUT processes, their output readers, crash and hang detection, drain
 //   run_record: judged and gathered into the RunRecord (pure); then the files and report.html
+//
+// Two threads: the player (this one: the writes, realtime on absolute clock_nanosleep
+// deadlines) and the event loop (event_loop.hpp: the output readers, the startup and drain
+// waits, SIGINT/SIGTERM).
 #include "nav/bench/runner.hpp"
 
 #include <signal.h>
@@ -20,7 +24,6 @@
 #include <filesystem>
 #include <optional>
 #include <stdexcept>
-#include <thread>
 
 #include "lines/bench_line.hpp"
 #include "nav/bench/dut_process.hpp"
@@ -34,6 +37,7 @@
 #include "run/clock.hpp"
 #include "run/device_streams.hpp"
 #include "run/dut_watch.hpp"
+#include "run/event_loop.hpp"
 #include "run/host_identity.hpp"
 #include "run/reactive_devices.hpp"
 #include "run/run_log.hpp"
@@ -48,8 +52,7 @@ namespace fs = std::filesystem;
 using namespace std::chrono_literals;
 using namespace detail;
 
-std::atomic<bool> g_interrupted{false};
-extern "C" void on_signal(int) { g_interrupted = true; }
+std::atomic<bool> g_interrupted{false};  ///< set by SIGINT/SIGTERM (the event loop's signal_set)
 
 constexpr Duration kPollPeriod = 1ms;  // realtime: how often polled lines are read
 
@@ -106,7 +109,7 @@ Result<std::vector<BenchLine>> open_lines(const Scenario& sc) {
 reports::RunRecord play_run(const Scenario& sc, const VehicleTruths& truths,
                             std::vector<BenchLine>& lines,
                             std::optional<transport::CanSocket> can_socket, const fs::path& dir,
-                            bool quiet) {
+                            bool quiet, EventLoop& loop) {
   RunIdentity id;
   id.started_utc = utc_now("%Y-%m-%dT%H:%M:%SZ");
   const Timestamp wall_start = monotonic_now();
@@ -116,7 +119,7 @@ reports::RunRecord play_run(const Scenario& sc, const VehicleTruths& truths,
   const DeviceStreams streams = generate_device_streams(sc, devices);
   log.tally.reset(devices.size(), sc.duration);
   ReactiveDevices reactive(sc, devices, lines, log);
-  DutWatch watch(sc, devices, truths, g_interrupted);
+  DutWatch watch(sc, devices, truths, g_interrupted, loop);
   CanSender can(sc, streams.can, std::move(can_socket), devices.size(), log);
   SystemClock clock;
   RunWires wires({&sc, &devices, &streams, &lines, &log, &reactive, &watch, &can,
@@ -137,12 +140,15 @@ reports::RunRecord play_run(const Scenario& sc, const VehicleTruths& truths,
   realtime.set_origin(t0);
   watch.start(lines, dir, t0, log);
   try_realtime_priority(20);
-  while (monotonic_now() < t0 && !g_interrupted && watch.ok(monotonic_now())) {
-    std::this_thread::sleep_for(5ms);
+  // The DUTs' startup, on the event loop: until t0 (a timer), a crash or a signal.
+  loop.wait_until(t0, 5ms, [&] {
+    const Timestamp now = monotonic_now();
+    if (g_interrupted || !watch.ok(now)) return true;
     // Realtime answers a start command sent during startup at once; lockstep reads it
     // before its first message, at scenario time 0, so that runs are reproducible.
-    if (sc.mode == TimeMode::kRealtime) reactive.poll_host_lines(monotonic_now() - t0);
-  }
+    if (sc.mode == TimeMode::kRealtime) reactive.poll_host_lines(now - t0);
+    return false;
+  });
   if (watch.ok(monotonic_now()) && !g_interrupted) {
     wires.play(sc.mode == TimeMode::kRealtime ? static_cast<Pacer&>(realtime) : lockstep, clock);
     if (watch.ok(monotonic_now()) && !g_interrupted) watch.drain();
@@ -264,14 +270,15 @@ int run_scenario(const RunOptions& o) {
     return kExitBench;
   }
 
-  struct sigaction sa {};
-  sa.sa_handler = on_signal;
-  ::sigaction(SIGINT, &sa, nullptr);
-  ::sigaction(SIGTERM, &sa, nullptr);
+  // The event loop and its signal_set live until the run folder is complete: a signal while
+  // the reports are written is caught, not fatal.
+  EventLoop loop;
+  loop.stop_on_signals(g_interrupted);
   ::signal(SIGPIPE, SIG_IGN);
 
   try {
-    reports::RunRecord rec = play_run(*sc, truths, *lines, std::move(can), partial, o.quiet);
+    reports::RunRecord rec =
+        play_run(*sc, truths, *lines, std::move(can), partial, o.quiet, loop);
     rec.run_dir = final_dir.string();
     reports::write_reports(rec, partial.string());
     // The HTML report is made from the files just written, as `navbench report` makes it. A

@@ -1,14 +1,17 @@
 // SPDX-License-Identifier: MIT
-// Reads the DUT's output port on its own thread: timestamps every read (CLOCK_MONOTONIC),
-// writes it to the receive capture, and decodes `$PNVBSOL` solutions.
+// Reads the DUT's output port on the bench's event loop (an async_read_some after another on
+// a posix::stream_descriptor): timestamps every read (CLOCK_MONOTONIC), writes it to the
+// receive capture, and decodes `$PNVBSOL` solutions. Other threads wait for answers on a
+// condition variable.
 #pragma once
 
 #include <condition_variable>
 #include <cstdint>
 #include <cstdio>
+#include <functional>
+#include <memory>
 #include <mutex>
 #include <string>
-#include <thread>
 #include <unordered_map>
 #include <vector>
 
@@ -24,18 +27,24 @@ struct Answer {
   protocols::navd::Solution solution;
 };
 
+class EventLoop;
+
 class OutputReader {
  public:
-  /// fd: master side of the DUT's output pty (non-blocking). capture: file for
-  /// "(<sec>.<nsec>) output <hex>" lines, times relative to t0 (CLOCK_MONOTONIC).
-  OutputReader(int fd, std::FILE* capture, Timestamp t0);
+  /// fd: master side of the DUT's output pty (non-blocking; it stays the caller's). capture:
+  /// file for "(<sec>.<nsec>) output <hex>" lines, times relative to t0 (CLOCK_MONOTONIC).
+  /// loop: the event loop it reads on (it must outlive the reader); null: an event loop of
+  /// its own.
+  OutputReader(int fd, std::FILE* capture, Timestamp t0, EventLoop* loop = nullptr);
   ~OutputReader();
   OutputReader(const OutputReader&) = delete;
   OutputReader& operator=(const OutputReader&) = delete;
 
   void start();
-  /// Stops the thread after reading what is already buffered.
+  /// Stops reading after reading what is already buffered.
   void stop();
+  /// Called on the event loop after a read that completed answers (null: none).
+  void set_on_answer(std::function<void()> f);
 
   /// Waits until `count` answers naming this tag have arrived (a trigger repeated by a
   /// `stuck` fault is answered once per copy) or the deadline passes; true if they did.
@@ -48,16 +57,20 @@ class OutputReader {
   std::size_t malformed() const;
 
  private:
-  void loop();
+  struct Io;
+  void read_next();
+  void finish();
+  /// On the loop: the bytes of one read, received at rx.
+  void on_read(const std::uint8_t* data, std::size_t n, Timestamp rx);
   void consume(Timestamp rx);
 
   int fd_;
   std::FILE* capture_;
   Timestamp t0_;
-  std::thread thread_;
+  std::unique_ptr<EventLoop> own_loop_;  ///< when not given one
+  std::unique_ptr<Io> io_;               ///< the descriptor and its reads, loop thread only
   mutable std::mutex mutex_;
   std::condition_variable cv_;
-  bool stop_ = false;
   protocols::Bytes buffer_;
   std::vector<Answer> answers_;
   std::unordered_map<std::uint64_t, std::size_t> answers_by_tag_;  ///< answers naming each tag
