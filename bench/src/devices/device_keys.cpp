@@ -123,15 +123,28 @@ emulators::Mount read_mount(const Field& f) {
   const MapReader m(f, {"lever_arm", "rotation"});
   emulators::Mount mount;
   if (auto v = m.optional("lever_arm")) {
-    mount.lever_arm_b = read_xyz(*v, [](const Field& x) { return x.quantity(Dimension::kLength); });
+    mount.lever_arm_b = read_xyz(*v, [](const Field& x) {
+      const double l = x.quantity(Dimension::kLength);
+      if (std::abs(l) > kMaxLeverArmM) {
+        x.fail("expected a lever arm of at most 100 m per axis (a device on its vehicle), got " +
+               quoted(x.node().Scalar()));
+      }
+      return l;
+    });
   }
   if (auto v = m.optional("rotation")) {
     const MapReader r(*v, {"roll", "pitch", "yaw"});
-    Euler e{0.0, 0.0, 0.0};
-    if (auto x = r.optional("roll")) e.roll = x->quantity(Dimension::kAngle);
-    if (auto x = r.optional("pitch")) e.pitch = x->quantity(Dimension::kAngle);
-    if (auto x = r.optional("yaw")) e.yaw = x->quantity(Dimension::kAngle);
-    mount.q_bd = quat_from_euler(e);
+    const auto angle = [&r](std::string_view key) {
+      const auto x = r.optional(key);
+      if (!x) return 0.0;
+      const double a = x->quantity(Dimension::kAngle);
+      if (std::abs(a) > units::deg_to_rad(360.0) * (1.0 + 1e-12)) {
+        x->fail("expected an angle of at most 360 deg in magnitude, got " +
+                quoted(x->node().Scalar()));
+      }
+      return a;
+    };
+    mount.q_bd = quat_from_euler(Euler{angle("roll"), angle("pitch"), angle("yaw")});
   }
   return mount;
 }

@@ -42,6 +42,8 @@ void read_triad(const Field& f, Dimension dim, Dimension walk_dim, emulators::Tr
 double utc_seconds(const Field& f);
 /// A length > 0 [m].
 double read_length_positive(const Field& f);
+/// Largest lever arm of a mounted device accepted, per axis [m].
+inline constexpr double kMaxLeverArmM = 100.0;
 /// A device's `mount`: {lever_arm: {x, y, z} lengths, rotation: {roll, pitch, yaw} angles},
 /// both optional, each angle 0 unless given (ZYX, the device's axes relative to the body's).
 emulators::Mount read_mount(const Field& f);

@@ -49,10 +49,10 @@ void generate_can(const Scenario& sc, const std::vector<RunDevice>& devices,
 
 std::vector<RunDevice> run_devices(const Scenario& sc) {
   std::vector<RunDevice> out;
-  for (const auto& d : sc.devices) out.push_back({d, d.name, 0});
+  for (const auto& d : sc.devices) out.push_back({d, d.name, 0, nullptr});
   for (std::uint32_t p = 0; p < sc.peers.size(); ++p) {
     for (const auto& d : sc.peers[p].devices) {
-      RunDevice rd{d, d.name, p + 1};
+      RunDevice rd{d, d.name, p + 1, nullptr};
       rd.spec.name = sc.peers[p].vehicle_name + "." + d.name;
       out.push_back(std::move(rd));
     }

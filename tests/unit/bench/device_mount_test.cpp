@@ -72,7 +72,9 @@ TEST(DeviceMount, MalformedMountsAreRefusedAtTheirPlace) {
            {"{lever_arm: {x: 1 deg, y: 0 m, z: 0 m}}", "length"},
            {"{rotation: {yaw: 2 m}}", "angle"},
            {"{rotation: {heading: 3 deg}}", "heading"},
-           {"{offset: 1 m}", "offset"}}) {
+           {"{offset: 1 m}", "offset"},
+           {"{lever_arm: {x: 1e12 m, y: 0 m, z: 0 m}}", "at most 100 m"},
+           {"{rotation: {roll: -1e300 deg}}", "at most 360 deg"}}) {
     SCOPED_TRACE(mount);
     const auto s = load_scenario(write_temp("bad.yaml", two_imus(mount)));
     ASSERT_FALSE(s);
