@@ -2,6 +2,8 @@
 // navd's config file: numeric keys, the navigator and attitude_filter choices, located errors.
 #include "config.hpp"
 
+#include <unistd.h>
+
 #include <cstdio>
 #include <fstream>
 #include <string>
@@ -11,10 +13,12 @@
 namespace nav::dut {
 namespace {
 
-/// Writes `text` to a fresh temporary file and returns its path.
+/// Writes `text` to a fresh temporary file and returns its path. The name holds the process id:
+/// ctest runs each case in its own process, two at a time.
 std::string write_config(const std::string& text) {
   static int n = 0;
-  const std::string path = ::testing::TempDir() + "navd_config_" + std::to_string(n++) + ".yaml";
+  const std::string path = ::testing::TempDir() + "navd_config_" + std::to_string(::getpid()) +
+                           "_" + std::to_string(n++) + ".yaml";
   std::ofstream(path) << text;
   return path;
 }
