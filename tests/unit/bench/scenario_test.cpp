@@ -822,7 +822,7 @@ TEST(LoadScenario, MeasurementFaultRefusalsAreOneLineAtTheKey) {
 }
 
 TEST(LoadScenario, ChecksCarryARequirementIdAndTitle) {
-  const auto path = write_temp("req.yaml", kMinimal + R"(checks:
+  const auto path = write_temp("req_ok.yaml", kMinimal + R"(checks:
   - kind: horizontal_error
     max: 2 m
     req: NAV-REQ-012
@@ -849,7 +849,7 @@ TEST(LoadScenario, RequirementTextsMustBeOneLineOfUtf8) {
       {"    req: [a, b]\n", "checks[0].req: expected a requirement id such as NAV-REQ-012, got a list"},
   };
   for (const auto& [line, message] : cases) {
-    const auto path = write_temp("req_bad.yaml", kMinimal + "checks:\n  - kind: dut_alive\n" + line);
+    const auto path = write_temp("req.yaml", kMinimal + "checks:\n  - kind: dut_alive\n" + line);
     const auto s = load_scenario(path);
     ASSERT_FALSE(s) << line;
     EXPECT_NE(s.error().detail.find(message), std::string::npos) << s.error().detail;
