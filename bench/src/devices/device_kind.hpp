@@ -93,6 +93,20 @@ struct DeviceKind {
   bool may_trigger() const { return trigger.of_message != nullptr || trigger.of_frame != nullptr; }
 };
 
+/// The `stream` of a kind whose settings are C and whose emulator is Generate(C, truth,
+/// duration, seed).
+template <class C, auto Generate>
+std::vector<emulators::WireMessage> stream_of(const DeviceSpec& d, const emulators::Truth& truth,
+                                              Duration duration, std::uint64_t seed) {
+  return Generate(d.config<C>(), truth, duration, seed);
+}
+
+/// The `measurement_faults` of a kind whose settings C hold them.
+template <class C>
+std::vector<emulators::MeasurementFault>* measurement_faults_in(DeviceSpec& d) {
+  return &d.config<C>().measurement_faults;
+}
+
 /// Every kind, in the order the scenario documentation lists them.
 const std::vector<const DeviceKind*>& device_kinds();
 /// The kind of a device (of a spec made by the scenario reader: its type is a kind's name).

@@ -99,16 +99,6 @@ std::size_t read(const DeviceReadContext& c, DeviceSpec& d) {
   return dvl_bytes(cfg.protocol);
 }
 
-std::vector<emulators::WireMessage> stream(const DeviceSpec& d,
-                                           const emulators::Truth& truth,
-                                           Duration duration, std::uint64_t seed) {
-  return emulators::generate_dvl(d.config<emulators::DvlConfig>(), truth, duration, seed);
-}
-
-std::vector<emulators::MeasurementFault>* faults(DeviceSpec& d) {
-  return &d.config<emulators::DvlConfig>().measurement_faults;
-}
-
 }  // namespace
 
 const DeviceKind& dvl_kind() {
@@ -122,8 +112,8 @@ const DeviceKind& dvl_kind() {
                "beam_angle", "max_altitude", "blanking", "beam_dropout", "sound_speed",
                "utc_start"},
       .read = &read,
-      .stream = &stream,
-      .measurement_faults = &faults,
+      .stream = &stream_of<emulators::DvlConfig, &emulators::generate_dvl>,
+      .measurement_faults = &measurement_faults_in<emulators::DvlConfig>,
       .special_faults = {MK::kBottomLockLoss},
       .wrong_quantities = {Q::kVelocity},
   };

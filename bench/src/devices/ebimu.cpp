@@ -59,16 +59,6 @@ std::size_t read(const DeviceReadContext& c, DeviceSpec& d) {
   return ebimu_bytes(cfg);
 }
 
-std::vector<emulators::WireMessage> stream(const DeviceSpec& d,
-                                           const emulators::Truth& truth,
-                                           Duration duration, std::uint64_t seed) {
-  return emulators::generate_ebimu(d.config<emulators::EbimuConfig>(), truth, duration, seed);
-}
-
-std::vector<emulators::MeasurementFault>* faults(DeviceSpec& d) {
-  return &d.config<emulators::EbimuConfig>().measurement_faults;
-}
-
 /// A line carries no time tag: it is named by its ordinal on the line, the number of LF bytes
 /// the line carried before its own LF (every LF counts, garbage and rejected lines included).
 /// Only a message that is one whole line of the device's output configuration is a trigger.
@@ -99,8 +89,8 @@ const DeviceKind& ebimu_kind() {
       .keys = {"name", "type", "port", "baud", "rate", "errors", "faults", "latency", "output",
                "gyro", "accel"},
       .read = &read,
-      .stream = &stream,
-      .measurement_faults = &faults,
+      .stream = &stream_of<emulators::EbimuConfig, &emulators::generate_ebimu>,
+      .measurement_faults = &measurement_faults_in<emulators::EbimuConfig>,
       .wrong_quantities = {Q::kAttitude, Q::kGyro, Q::kAccel},
       .trigger = {"the line's ordinal on its port: LF bytes received on it before the line's "
                   "LF, from 0 (the line has no time tag)",

@@ -104,16 +104,6 @@ std::size_t read(const DeviceReadContext& c, DeviceSpec& d) {
   return gps_epoch_bytes(cfg);
 }
 
-std::vector<emulators::WireMessage> stream(const DeviceSpec& d,
-                                           const emulators::Truth& truth,
-                                           Duration duration, std::uint64_t seed) {
-  return emulators::generate_gps(d.config<emulators::GpsConfig>(), truth, duration, seed);
-}
-
-std::vector<emulators::MeasurementFault>* faults(DeviceSpec& d) {
-  return &d.config<emulators::GpsConfig>().measurement_faults;
-}
-
 }  // namespace
 
 const DeviceKind& gps_kind() {
@@ -126,8 +116,8 @@ const DeviceKind& gps_kind() {
       .keys = {"name", "type", "port", "baud", "rate", "errors", "faults", "latency", "talker",
                "utc_start", "max_depth_for_fix", "sentences", "reacquisition"},
       .read = &read,
-      .stream = &stream,
-      .measurement_faults = &faults,
+      .stream = &stream_of<emulators::GpsConfig, &emulators::generate_gps>,
+      .measurement_faults = &measurement_faults_in<emulators::GpsConfig>,
       .special_faults = {MK::kGpsJump},
       .wrong_quantities = {Q::kVelocity},
   };

@@ -104,16 +104,6 @@ std::size_t read(const DeviceReadContext& c, DeviceSpec& d) {
   return protocols::gx3::kAccelRateMagLength;
 }
 
-std::vector<emulators::WireMessage> stream(const DeviceSpec& d,
-                                           const emulators::Truth& truth,
-                                           Duration duration, std::uint64_t seed) {
-  return emulators::generate_gx3(d.config<emulators::Gx3Config>(), truth, duration, seed);
-}
-
-std::vector<emulators::MeasurementFault>* faults(DeviceSpec& d) {
-  return &d.config<emulators::Gx3Config>().measurement_faults;
-}
-
 /// The packet's timer field (bytes 37-40) as sent; none for a packet a fault damaged.
 std::optional<std::uint64_t> trigger_tag(const DeviceSpec&, const emulators::WireMessage& m,
                                          std::uint64_t) {
@@ -132,8 +122,8 @@ const DeviceKind& gx3_kind() {
       .keys = {"name", "type", "port", "baud", "rate", "errors", "faults", "latency", "timer_start",
                "mag_field", "continuous"},
       .read = &read,
-      .stream = &stream,
-      .measurement_faults = &faults,
+      .stream = &stream_of<emulators::Gx3Config, &emulators::generate_gx3>,
+      .measurement_faults = &measurement_faults_in<emulators::Gx3Config>,
       .wrong_quantities = {Q::kAccel, Q::kGyro, Q::kMag},
       .commanded = true,
       .trigger = {"the 0xCB packet's timer field (bytes 37-40), in decimal, as received "

@@ -57,10 +57,6 @@ std::size_t read(const DeviceReadContext& c, DeviceSpec& d) {
   return 0;  // polled: nothing is sent unasked, so there is no stream to fit on the line
 }
 
-std::vector<emulators::MeasurementFault>* faults(DeviceSpec& d) {
-  return &d.config<emulators::KellerConfig>().measurement_faults;
-}
-
 }  // namespace
 
 const DeviceKind& keller_kind() {
@@ -73,7 +69,7 @@ const DeviceKind& keller_kind() {
       .keys = {"name", "type", "port", "baud", "errors", "faults", "address", "density",
                "atmosphere", "gauge", "response_time", "serial_number", "temperature"},
       .read = &read,
-      .measurement_faults = &faults,
+      .measurement_faults = &measurement_faults_in<emulators::KellerConfig>,
       .wrong_quantities = {Q::kPressure},
   };
   return kind;

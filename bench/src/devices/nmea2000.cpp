@@ -105,10 +105,6 @@ std::vector<emulators::CanWireFrame> frames(const DeviceSpec& d,
   return emulators::generate_nmea2000(d.config<emulators::Nmea2000Config>(), truth, duration, seed);
 }
 
-std::vector<emulators::MeasurementFault>* faults(DeviceSpec& d) {
-  return &d.config<emulators::Nmea2000Config>().measurement_faults;
-}
-
 /// A single-frame PGN with a SID (byte 0) from the device's source address: PGN * 256 + SID.
 /// The SID ties the PGNs of one measurement instant together, so it needs the PGN beside it;
 /// 129025 (no SID) and the fast packet 129029 are no triggers.
@@ -143,7 +139,7 @@ const DeviceKind& nmea2000_kind() {
                "reacquisition", "utc_start", "faults"},  // on the bus: no port or baud
       .read = &read,
       .frames = &frames,
-      .measurement_faults = &faults,
+      .measurement_faults = &measurement_faults_in<emulators::Nmea2000Config>,
       .special_faults = {MK::kGpsJump},
       .wrong_quantities = {Q::kAttitude, Q::kGyro, Q::kVelocity, Q::kRange},
       .trigger = {"PGN * 256 + SID (byte 0) of each single-frame PGN with a SID (127250, "

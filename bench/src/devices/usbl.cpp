@@ -63,16 +63,6 @@ std::size_t read(const DeviceReadContext& c, DeviceSpec& d) {
   return kUsblBytes;
 }
 
-std::vector<emulators::WireMessage> stream(const DeviceSpec& d,
-                                           const emulators::Truth& truth,
-                                           Duration duration, std::uint64_t seed) {
-  return emulators::generate_usbl(d.config<emulators::UsblConfig>(), truth, duration, seed);
-}
-
-std::vector<emulators::MeasurementFault>* faults(DeviceSpec& d) {
-  return &d.config<emulators::UsblConfig>().measurement_faults;
-}
-
 }  // namespace
 
 const DeviceKind& usbl_kind() {
@@ -85,8 +75,8 @@ const DeviceKind& usbl_kind() {
       .keys = {"name", "type", "port", "baud", "rate", "errors", "faults", "transceiver",
                "sound_speed", "outliers", "dropout", "angles_only", "processing", "utc_start"},
       .read = &read,
-      .stream = &stream,
-      .measurement_faults = &faults,
+      .stream = &stream_of<emulators::UsblConfig, &emulators::generate_usbl>,
+      .measurement_faults = &measurement_faults_in<emulators::UsblConfig>,
       .special_faults = {MK::kUsblOutliers},
       .wrong_quantities = {Q::kRange},
   };
