@@ -2,13 +2,16 @@
 // Which timer should pace the bench's realtime writes? N writes scheduled at absolute
 // CLOCK_MONOTONIC deadlines t0 + k * period, each one byte written to /dev/null when its
 // deadline is reached; lateness = the time the write starts - its deadline, as the bench
-// measures a message's lateness at its first byte. Two ways, run alternately in one process
+// measures a message's lateness at its first byte. Three ways, run alternately in one process
 // so that both see the same machine:
 //
 //   nanosleep: a dedicated thread, clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME) per write
 //              (bench/src/run/pacer.cpp with realtime.cpp's SystemClock);
 //   asio:      boost::asio::steady_timer on an io_context run by a dedicated thread, each
-//              write's handler chaining the next expires_at() on the absolute deadline.
+//              write's handler chaining the next expires_at() on the absolute deadline;
+//   condvar:   a dedicated thread, std::condition_variable::wait_until on each absolute
+//              steady_clock deadline (pthread_cond_clockwait on CLOCK_MONOTONIC), as the
+//              player sleeps when the event loop may wake it (bench/src/run/wakeup.hpp).
 //
 // Both threads get what the bench's player gets (realtime.cpp): SCHED_FIFO 20 when permitted
 // and a 1 ns timer slack. A plain program (not Google Benchmark: the figure is a lateness
@@ -26,6 +29,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <condition_variable>
+#include <mutex>
 #include <cstdio>
 #include <cstdlib>
 #include <functional>
@@ -117,6 +122,30 @@ std::vector<Ns> run_asio(int fd, Ns period, int n) {
   return late;
 }
 
+/// (c) A dedicated thread waiting on a condition variable, never notified, to each deadline.
+std::vector<Ns> run_condvar(int fd, Ns period, int n) {
+  using Clock = std::chrono::steady_clock;
+  std::vector<Ns> late(static_cast<std::size_t>(n));
+  std::thread t([&] {
+    realtime_thread();
+    std::mutex m;
+    std::condition_variable cv;
+    const Ns t0 = now_ns() + std::chrono::milliseconds(20);
+    std::unique_lock<std::mutex> lock(m);
+    for (int k = 0; k < n; ++k) {
+      const Ns deadline = t0 + k * period;
+      const Clock::time_point until(std::chrono::duration_cast<Clock::duration>(deadline));
+      while (cv.wait_until(lock, until) != std::cv_status::timeout) {
+      }
+      late[static_cast<std::size_t>(k)] = now_ns() - deadline;
+      const char b = 'x';
+      (void)!::write(fd, &b, 1);
+    }
+  });
+  t.join();
+  return late;
+}
+
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   const std::size_t m = v.size() / 2;
@@ -145,8 +174,10 @@ int main(int argc, char** argv) {
   std::vector<Case> cases = {
       {"nanosleep", std::chrono::milliseconds(10), n10, run_nanosleep, {}},
       {"asio", std::chrono::milliseconds(10), n10, run_asio, {}},
+      {"condvar", std::chrono::milliseconds(10), n10, run_condvar, {}},
       {"nanosleep", std::chrono::milliseconds(1), n1, run_nanosleep, {}},
       {"asio", std::chrono::milliseconds(1), n1, run_asio, {}},
+      {"condvar", std::chrono::milliseconds(1), n1, run_condvar, {}},
   };
   std::printf("lateness of a write at its absolute deadline [us], %d repetitions\n", reps);
   for (int r = 0; r < reps; ++r) {

@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "nav/bench/replay.hpp"
 
-#include <poll.h>
 #include <signal.h>
 #include <unistd.h>
 
@@ -16,7 +15,6 @@
 #include <functional>
 #include <iterator>
 #include <memory>
-#include <thread>
 
 #include "nav/bench/dut_process.hpp"
 #include "nav/bench/output_reader.hpp"
@@ -28,6 +26,7 @@
 #include "nav/transport/serial_port.hpp"
 #include "lines/bench_line.hpp"
 #include "capture/replay_wires.hpp"
+#include "run/event_loop.hpp"
 
 namespace nav::bench {
 namespace {
@@ -39,7 +38,6 @@ using detail::send_frame;
 using namespace std::chrono_literals;
 
 constexpr int kDefaultBaud = 115200;             // a mapped port without @BAUD
-constexpr Duration kPollPeriod = 1ms;            // unused: a replay has no idle work
 constexpr Duration kDrainQuiet = 500ms;          // end of replay: no new solution for this long
 constexpr Duration kDrainMax = 3s;               // ... or at most this long
 
@@ -341,6 +339,7 @@ int replay_capture(const ReplayOptions& o) {
   ::signal(SIGPIPE, SIG_IGN);
 
   // --- the DUT -----------------------------------------------------------------------------
+  EventLoop loop;  // the DUT's output read, the startup and drain waits
   std::unique_ptr<DutProcess> dut;
   std::unique_ptr<OutputReader> reader;
   std::unique_ptr<std::FILE, int (*)(std::FILE*)> rx(nullptr, &std::fclose);
@@ -372,7 +371,7 @@ int replay_capture(const ReplayOptions& o) {
       return kExitBench;
     }
     dut = std::make_unique<DutProcess>(std::move(*d));
-    reader = std::make_unique<OutputReader>(output->line.fd(), rx.get(), start);
+    reader = std::make_unique<OutputReader>(output->line.fd(), rx.get(), start, &loop);
     reader->start();
   }
   std::string dut_early;  // how the DUT ended, when it did before the end
@@ -383,18 +382,20 @@ int replay_capture(const ReplayOptions& o) {
     dut_early = dut->exit_description();
     return false;
   };
-  while (monotonic_now() < start && !g_interrupted && (!dut || dut_alive())) {
-    std::this_thread::sleep_for(5ms);
-  }
+  // The DUT's startup, on the event loop: until `start`, the DUT's end or a signal.
+  loop.wait_until(start, 5ms, [&] { return g_interrupted || !dut_alive(); });
 
   // --- play --------------------------------------------------------------------------------
   try_realtime_priority(20);
+  // The loop just below the player: what it reads is stamped as it arrives (DUT latency,
+  // the devices' requests), not when the scheduler gets round to a DUT-loaded machine.
+  loop.call([] { try_realtime_priority(19); });
   // A navbench capture keeps its offset from t0; a candump log (epoch times) starts at once.
   const Duration base = lines.empty() ? Duration{0}
                         : is_can      ? lines.front().t
                                       : std::min(Duration{0}, lines.front().t);
   detail::SystemClock clock;
-  detail::RealtimePacer pacer(clock, g_interrupted, kPollPeriod);
+  detail::RealtimePacer pacer(clock, g_interrupted, detail::kMaxSleep);
   pacer.set_origin(start, base, o.speed);
   ReplayWires wires(lines, frames, ports, port_of, pacer, dut_alive, dut != nullptr);
   std::vector<ScheduledMessage> messages;
@@ -412,18 +413,20 @@ int replay_capture(const ReplayOptions& o) {
   // --- drain and stop the DUT --------------------------------------------------------------
   std::size_t solutions = 0, malformed = 0;
   if (dut) {
-    const Timestamp give_up = monotonic_now() + kDrainMax;
+    // On the event loop: at each answer and every 20 ms, until the DUT has been quiet for
+    // kDrainQuiet, ended, a signal came, or kDrainMax passed.
     std::size_t seen = reader->answer_count();
     Timestamp last_change = monotonic_now();
-    while (!g_interrupted && dut_alive() && monotonic_now() < give_up &&
-           monotonic_now() - last_change < kDrainQuiet) {
-      std::this_thread::sleep_for(20ms);
+    reader->set_on_answer([&loop] { loop.poke(); });
+    loop.wait_until(monotonic_now() + kDrainMax, 20ms, [&] {
       const std::size_t now_seen = reader->answer_count();
       if (now_seen != seen) {
         seen = now_seen;
         last_change = monotonic_now();
       }
-    }
+      return g_interrupted || !dut_alive() || monotonic_now() - last_change >= kDrainQuiet;
+    });
+    reader->set_on_answer(nullptr);
     dut_alive();
     dut->stop();
     reader->stop();

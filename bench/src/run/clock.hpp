@@ -7,6 +7,7 @@
 
 #include "nav/bench/realtime.hpp"
 #include "nav/common/time.hpp"
+#include "run/wakeup.hpp"
 
 namespace nav::bench::detail {
 
@@ -16,14 +17,23 @@ class Clock {
   virtual Timestamp now() const = 0;
   /// Sleeps until t, or until stop is set.
   virtual void sleep_until(Timestamp t, const std::atomic<bool>& stop) = 0;
+  /// Sleeps until t, stop, or a notification of `news` (something to act on arrived).
+  virtual void sleep_until_news(Timestamp t, const std::atomic<bool>& stop, Wakeup& news) {
+    (void)news;
+    sleep_until(t, stop);
+  }
 };
 
-/// CLOCK_MONOTONIC with absolute clock_nanosleep deadlines (realtime.hpp).
+/// CLOCK_MONOTONIC with absolute clock_nanosleep deadlines (realtime.hpp); a sleep that news
+/// may cut short waits on a condition variable with the same absolute deadline.
 class SystemClock final : public Clock {
  public:
   Timestamp now() const override { return monotonic_now(); }
   void sleep_until(Timestamp t, const std::atomic<bool>& stop) override {
     bench::sleep_until(t, stop);
+  }
+  void sleep_until_news(Timestamp t, const std::atomic<bool>& stop, Wakeup& news) override {
+    news.wait_until(t, stop);
   }
 };
 

@@ -6,14 +6,31 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/steady_timer.hpp>
+
 #include "devices/device_kind.hpp"
 
 namespace nav::bench::detail {
+namespace {
+
+using namespace std::chrono_literals;
+
+constexpr Duration kWatchPeriod = 10ms;  // how often the watchdog looks at the DUTs
+
+}  // namespace
+
+/// The watchdog's timer, on the event loop.
+struct DutWatch::Watchdog {
+  explicit Watchdog(boost::asio::io_context& io) : timer(io) {}
+  boost::asio::steady_timer timer;
+  bool stopped = false;
+};
 
 DutWatch::DutWatch(const Scenario& sc, const std::vector<RunDevice>& devices,
-                   const VehicleTruths& truths,
-                   const std::atomic<bool>& stop, EventLoop& loop)
-    : sc_(sc), devices_(devices), stop_(stop), loop_(loop) {
+                   const VehicleTruths& truths, const std::atomic<bool>& stop, EventLoop& loop,
+                   Wakeup& news)
+    : sc_(sc), devices_(devices), stop_(stop), loop_(loop), news_(news) {
   for (std::uint32_t v = 0; v <= sc.peers.size(); ++v) {
     Vehicle veh;
     veh.name = v == 0 ? sc.vehicle_name : sc.peers[v - 1].vehicle_name;
@@ -26,6 +43,15 @@ DutWatch::DutWatch(const Scenario& sc, const std::vector<RunDevice>& devices,
     Vehicle& veh = vehicles_[devices[d].vehicle];
     if (devices[d].local_name == veh.dut->trigger) veh.trigger_device = d;
   }
+}
+
+DutWatch::~DutWatch() {
+  if (!watchdog_) return;
+  loop_.call([this] {
+    watchdog_->stopped = true;
+    watchdog_->timer.cancel();
+  });
+  loop_.call([this] { watchdog_.reset(); });  // after the cancelled wait's handler ran
 }
 
 std::vector<std::string> DutWatch::argv_of(std::uint32_t v,
@@ -51,8 +77,10 @@ std::vector<std::string> DutWatch::argv_of(std::uint32_t v,
 void DutWatch::start(const std::vector<BenchLine>& lines, const std::filesystem::path& dir,
                      Timestamp t0, RunLog& log) {
   t0_ = t0;
+  sent_ = std::make_unique<std::atomic<std::size_t>[]>(vehicles_.size());
   for (std::uint32_t v = 0; v < vehicles_.size(); ++v) {
     Vehicle& veh = vehicles_[v];
+    veh.sent_wire_ends.assign(veh.triggers.size(), Timestamp{});
     veh.argv = argv_of(v, lines);
     // The primary's DUT log and output capture keep their single-vehicle names.
     const std::string log_name = v == 0 ? "dut.log" : "dut-" + veh.name + ".log";
@@ -68,17 +96,44 @@ void DutWatch::start(const std::vector<BenchLine>& lines, const std::filesystem:
         &loop_);
     veh.reader->start();
   }
+  // The watchdog: every kWatchPeriod on the loop, until finish().
+  loop_.call([this] {
+    watchdog_ = std::make_unique<Watchdog>(loop_.context());
+    struct Tick {
+      DutWatch* w;
+      void operator()(const boost::system::error_code& ec) const {
+        if (ec || w->watchdog_->stopped) return;
+        {
+          const std::lock_guard<std::mutex> lock(w->mutex_);
+          if (!w->look(monotonic_now())) return;  // the verdict is in: no more looks
+        }
+        w->watchdog_->timer.expires_after(kWatchPeriod);
+        w->watchdog_->timer.async_wait(*this);
+      }
+    };
+    watchdog_->timer.expires_after(kWatchPeriod);
+    watchdog_->timer.async_wait(Tick{this});
+  });
 }
 
-bool DutWatch::ok(Timestamp now) {
-  if (crashed_ || hung_) return false;
-  for (auto& veh : vehicles_) {
-    if (!vehicle_ok(veh, now)) return false;
+bool DutWatch::look(Timestamp now) {
+  if (failed_) return false;
+  for (std::size_t v = 0; v < vehicles_.size(); ++v) {
+    if (!vehicle_ok(vehicles_[v], sent_[v].load(std::memory_order_acquire), now)) {
+      failed();
+      return false;
+    }
   }
   return true;
 }
 
-bool DutWatch::vehicle_ok(Vehicle& veh, Timestamp now) {
+void DutWatch::failed() {
+  failed_ = true;
+  news_.notify();  // a realtime player's sleep, a wait for the start command
+  if (loop_.on_loop_thread()) loop_.poke();  // the startup or drain wait
+}
+
+bool DutWatch::vehicle_ok(Vehicle& veh, std::size_t sent, Timestamp now) {
   if (!veh.proc->running()) {
     crashed_ = true;
     veh.failed = true;
@@ -91,23 +146,37 @@ bool DutWatch::vehicle_ok(Vehicle& veh, Timestamp now) {
   // watchdog. A trigger the DUT rightly drops (it arrived damaged) is followed by solutions
   // to later triggers, so it does not count.
   const Timestamp last_answer = veh.reader->last_answer_time();
-  const auto waiting =
-      std::partition_point(veh.sent_wire_ends.begin(), veh.sent_wire_ends.end(),
-                           [&](Timestamp w) { return w <= last_answer; });
-  if (waiting != veh.sent_wire_ends.end() && now - *waiting > veh.dut->watchdog) {
+  const auto sent_end = veh.sent_wire_ends.begin() + static_cast<std::ptrdiff_t>(sent);
+  const auto waiting = std::partition_point(veh.sent_wire_ends.begin(), sent_end,
+                                            [&](Timestamp w) { return w <= last_answer; });
+  if (waiting != sent_end && now - *waiting > veh.dut->watchdog) {
     char t[128];
     std::snprintf(t, sizeof t, "hung: no solution for %.1f s at t=%.3f s",
                   to_seconds(now - std::max(*waiting, last_answer)), to_seconds(now - t0_));
-    set_hung(veh, t);
+    hung_ = true;
+    veh.failed = true;
+    veh.status = t;
     return false;
   }
   return true;
 }
 
 void DutWatch::set_hung(Vehicle& v, std::string status) {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  if (failed_) return;  // the watchdog's verdict came first
   hung_ = true;
   v.failed = true;
   v.status = std::move(status);
+  failed();
+}
+
+void DutWatch::note_trigger_sent(Vehicle& v, const TriggerRecord& tr) {
+  // Each trigger record is sent at most once, so a slot is free.
+  const auto index = static_cast<std::size_t>(&v - vehicles_.data());
+  v.sent_wire_ends[v.triggers_sent] = tr.wire_end;
+  ++v.triggers_sent;
+  v.last_trigger_tag = tr.tag;
+  sent_[index].store(v.triggers_sent, std::memory_order_release);
 }
 
 void DutWatch::drain() {
@@ -119,7 +188,7 @@ void DutWatch::drain() {
   for (auto& v : vehicles_) v.reader->set_on_answer([this] { loop_.poke(); });
   loop_.wait_until(end, 5ms, [this] {
     const Timestamp now = monotonic_now();
-    if (stop_ || !ok(now)) return true;
+    if (stop_ || !ok()) return true;
     return std::all_of(vehicles_.begin(), vehicles_.end(), [&](const Vehicle& v) {
       // As many answers naming the last tag as it was owed (a wrapped tag is owed again).
       const auto owed = v.answers_expected.find(v.last_trigger_tag);
@@ -138,6 +207,12 @@ Duration DutWatch::max_watchdog() const {
 }
 
 void DutWatch::finish(const std::vector<std::size_t>& suppressed) {
+  if (watchdog_) {
+    loop_.call([this] {
+      watchdog_->stopped = true;
+      watchdog_->timer.cancel();
+    });
+  }
   for (auto& veh : vehicles_) {
     const bool alive = !crashed_ && !hung_ && veh.proc->running();
     if (alive) veh.status = "alive until the end (pid " + std::to_string(veh.proc->pid()) + ")";

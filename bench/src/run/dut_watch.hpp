@@ -3,9 +3,12 @@
 // output read on the bench's event loop, watched for a crash or a hang, drained at the end
 // and stopped. Private to nav_bench.
 //
-//   start(): argv with {port:NAME} -> the lines' paths; dut.log / dut-<peer>.log; readers
-//   ok(now): crashed (exited) or hung (a trigger unanswered for longer than the watchdog);
-//            called by the player at its own points, so lockstep sees the same order
+//   start(): argv with {port:NAME} -> the lines' paths; dut.log / dut-<peer>.log; readers;
+//            the watchdog: a steady_timer on the event loop, every 10 ms, that finds a DUT
+//            crashed (exited) or hung (a trigger unanswered for longer than its watchdog),
+//            then wakes every wait of the player (news, the loop's wait) at once
+//   ok():    the watchdog's verdict so far; the player looks at its own points (lockstep
+//            stops at the barrier of the trigger the DUT did not answer)
 //   drain(): after the last message, on the event loop: done at the answer to each DUT's last
 //            trigger (the readers poke it), or at the deadline timer one watchdog on, or at
 //            a crash or a signal (looked at every 5 ms)
@@ -15,6 +18,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -27,6 +31,7 @@
 #include "run/device_streams.hpp"
 #include "run/event_loop.hpp"
 #include "run/run_log.hpp"
+#include "run/wakeup.hpp"
 
 namespace nav::bench::detail {
 
@@ -43,27 +48,25 @@ struct Vehicle {
   FilePtr output_capture;            ///< peers: capture-rx-<name>.log
   std::vector<TriggerRecord> triggers;  ///< every trigger of the schedule, in order
   std::size_t triggers_sent = 0;
-  std::vector<Timestamp> sent_wire_ends;  ///< of the triggers sent, in send order
+  /// Of the triggers sent, in send order: one slot per trigger, set by the player, the first
+  /// DutWatch::sent_[v] of them read by the watchdog.
+  std::vector<Timestamp> sent_wire_ends;
   std::uint64_t last_trigger_tag = 0;
   /// Lockstep: answers naming each trigger tag the DUT may give so far (1 per trigger, one
   /// more per copy a `stuck` fault sent).
   std::unordered_map<std::uint64_t, std::size_t> answers_expected;
-  bool failed = false;  ///< crashed or hung
-  std::string status;
-
-  void note_trigger_sent(const TriggerRecord& tr) {
-    ++triggers_sent;
-    sent_wire_ends.push_back(tr.wire_end);
-    last_trigger_tag = tr.tag;
-  }
+  bool failed = false;  ///< crashed or hung (watched)
+  std::string status;   ///< (watched)
 };
 
 class DutWatch {
  public:
   /// stop: set by SIGINT/SIGTERM; every wait ends when it is. loop: where the output readers
-  /// read and the drain waits.
+  /// read, the watchdog runs and the drain waits. news: woken when a DUT failed.
   DutWatch(const Scenario& sc, const std::vector<RunDevice>& devices,
-           const VehicleTruths& truths, const std::atomic<bool>& stop, EventLoop& loop);
+           const VehicleTruths& truths, const std::atomic<bool>& stop, EventLoop& loop,
+           Wakeup& news);
+  ~DutWatch();
 
   std::vector<Vehicle>& vehicles() { return vehicles_; }
   const std::vector<Vehicle>& vehicles() const { return vehicles_; }
@@ -77,35 +80,53 @@ class DutWatch {
   void start(const std::vector<BenchLine>& lines, const std::filesystem::path& dir, Timestamp t0,
              RunLog& log);
 
-  /// Watches every DUT; false once one crashed or hung (its vehicle's status says how).
-  bool ok(Timestamp now);
+  /// False once a DUT crashed or hung (its vehicle's status says how).
+  bool ok() const { return !failed_; }
   bool crashed() const { return crashed_; }
   bool hung() const { return hung_; }
   /// Records that a vehicle's DUT hung for a reason only the player sees.
   void set_hung(Vehicle& v, std::string status);
+  /// A trigger of vehicle v has left (its wire_end set): the watchdog waits for its answer.
+  void note_trigger_sent(Vehicle& v, const TriggerRecord& tr);
 
   /// After the last message: waits until each DUT answered its last trigger, at most one
   /// watchdog period; the rest count as unanswered.
   void drain();
   /// The longest watchdog of any vehicle.
   Duration max_watchdog() const;
-  /// Sets the final status of the DUTs still alive, then stops every DUT and reader.
+  /// Stops the watchdog, sets the final status of the DUTs still alive, then stops every
+  /// DUT and reader.
   void finish(const std::vector<std::size_t>& suppressed);
   /// The primary's DUT status, with any peer that failed.
   std::string primary_status() const;
   bool primary_alive() const;
 
  private:
-  bool vehicle_ok(Vehicle& veh, Timestamp now);
+  struct Watchdog;
+  /// On the loop, under mutex_: looks at every DUT; false (and the verdict set) once one
+  /// crashed or hung.
+  bool look(Timestamp now);
+  /// sent: how many of its triggers have been sent.
+  bool vehicle_ok(Vehicle& veh, std::size_t sent, Timestamp now);
+  /// Under mutex_: the verdict is in; every wait of the player ends.
+  void failed();
   std::vector<std::string> argv_of(std::uint32_t v, const std::vector<BenchLine>& lines) const;
 
   const Scenario& sc_;
   const std::vector<RunDevice>& devices_;
   const std::atomic<bool>& stop_;
   EventLoop& loop_;
+  Wakeup& news_;
   std::vector<Vehicle> vehicles_;
   Timestamp t0_{};
-  bool crashed_ = false, hung_ = false;
+  /// Per vehicle: how many of its sent_wire_ends are set (release by the player, acquire by
+  /// the watchdog: no lock per trigger).
+  std::unique_ptr<std::atomic<std::size_t>[]> sent_;
+  /// Guards each vehicle's failed and status and the verdict (the watchdog's and set_hung's).
+  mutable std::mutex mutex_;
+  std::atomic<bool> failed_{false};
+  std::atomic<bool> crashed_{false}, hung_{false};
+  std::unique_ptr<Watchdog> watchdog_;
   bool primary_alive_ = false;  ///< set by finish()
 };
 

@@ -42,6 +42,7 @@ struct EventLoop::Impl {
   asio::executor_work_guard<asio::io_context::executor_type> work = asio::make_work_guard(io);
   std::optional<asio::signal_set> signals;
   std::atomic<bool>* signal_flag = nullptr;
+  std::function<void()> on_signal_also;
   std::unique_ptr<Wait> wait;  ///< the current wait_until(), loop thread only
   std::thread thread;
 
@@ -67,6 +68,7 @@ struct EventLoop::Impl {
     if (ec) return;
     *signal_flag = true;
     finish_wait();
+    if (on_signal_also) on_signal_also();
     signals->async_wait([this](const boost::system::error_code& e, int s) { on_signal(e, s); });
   }
 };
@@ -101,9 +103,12 @@ void EventLoop::call(const std::function<void()>& fn) {
   done.get_future().wait();
 }
 
-void EventLoop::stop_on_signals(std::atomic<bool>& flag) {
+void EventLoop::post(std::function<void()> fn) { asio::post(impl_->io, std::move(fn)); }
+
+void EventLoop::stop_on_signals(std::atomic<bool>& flag, std::function<void()> also) {
   call([&] {
     impl_->signal_flag = &flag;
+    impl_->on_signal_also = std::move(also);
     impl_->signals.emplace(impl_->io, SIGINT, SIGTERM);
     impl_->signals->async_wait(
         [this](const boost::system::error_code& e, int s) { impl_->on_signal(e, s); });

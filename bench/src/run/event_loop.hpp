@@ -43,9 +43,12 @@ class EventLoop {
   bool on_loop_thread() const;
   /// Runs fn on the loop thread (at once when called there) and returns when it has.
   void call(const std::function<void()>& fn);
+  /// Runs fn on the loop thread later and returns at once (fn must own what it uses).
+  void post(std::function<void()> fn);
 
-  /// From now until the destructor, SIGINT and SIGTERM set `flag` (and end a wait_until).
-  void stop_on_signals(std::atomic<bool>& flag);
+  /// From now until the destructor, SIGINT and SIGTERM set `flag`, end a wait_until and
+  /// call `also` (on the loop thread; to wake a thread that waits elsewhere).
+  void stop_on_signals(std::atomic<bool>& flag, std::function<void()> also = {});
 
   /// Blocks the caller until `step()` returns true, CLOCK_MONOTONIC time `deadline` passes or
   /// a signal of stop_on_signals() arrived; step() runs on the loop thread at once, every

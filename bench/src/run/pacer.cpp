@@ -6,8 +6,8 @@
 
 namespace nav::bench::detail {
 
-RealtimePacer::RealtimePacer(Clock& clock, const std::atomic<bool>& stop, Duration poll_period)
-    : clock_(clock), stop_(stop), poll_period_(poll_period) {}
+RealtimePacer::RealtimePacer(Clock& clock, const std::atomic<bool>& stop, Duration max_sleep)
+    : clock_(clock), stop_(stop), max_sleep_(max_sleep) {}
 
 void RealtimePacer::set_origin(Timestamp t0, Duration origin, double speed) {
   t0_ = t0;
@@ -33,18 +33,26 @@ void RealtimePacer::finish(IdleWork& idle) {
 
 void RealtimePacer::wait(Duration t, IdleWork& idle) {
   const Timestamp until = deadline(t);
-  if (!idle.active()) {
-    clock_.sleep_until(until, stop_);
-    return;
-  }
+  const bool active = idle.active();
+  Wakeup* news = active ? idle.news() : nullptr;
   for (;;) {
     const Timestamp now = clock_.now();
-    idle.poll(now - t0_);
-    idle.send_due(now - t0_);
+    if (active) {
+      idle.poll(now - t0_);
+      idle.send_due(now - t0_);
+    }
     if (now >= until || stop_) return;
-    Timestamp wake = std::min(until, now + poll_period_);
-    if (const auto due = idle.next_due()) wake = std::min(wake, t0_ + *due);
-    clock_.sleep_until(wake, stop_);
+    // Never longer than max_sleep at a time: a short sleep wakes closer to its deadline
+    // (docs/design-notes.md, "Which timer paces the writes").
+    Timestamp wake = std::min(until, now + max_sleep_);
+    if (active) {
+      if (const auto due = idle.next_due()) wake = std::min(wake, deadline(*due));
+    }
+    if (news != nullptr) {
+      clock_.sleep_until_news(wake, stop_, *news);
+    } else {
+      clock_.sleep_until(wake, stop_);
+    }
   }
 }
 

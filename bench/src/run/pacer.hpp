@@ -1,10 +1,12 @@
 // SPDX-License-Identifier: MIT
 // How the wire player keeps time (wire_player.hpp has the loop). Private to nav_bench.
 //
-//   RealtimePacer: every write at its absolute deadline t0 + (t - origin) / speed on a Clock;
-//                  while it waits it serves the idle work every poll period (or sleeps through
-//                  when there is none); the CAN frames due before a write are sent at their
-//                  own deadlines first.
+//   RealtimePacer: every write at its absolute deadline t0 + (t - origin) / speed on a Clock,
+//                  slept to in absolute sleeps of at most max_sleep (a short sleep wakes
+//                  closer to its deadline); while it waits it serves the idle work after each
+//                  sleep, which ends early when the event loop has news for it (a DUT wrote
+//                  to a device line) or an answer falls due; the CAN frames due before a
+//                  write are sent at their own deadlines first.
 //   LockstepPacer: virtual time: no waiting; before each message the idle work is served at
 //                  the scenario time the DUT has reached (the end of the last message, or the
 //                  due time of the last CAN frame if later), then the CAN frames and answers
@@ -20,6 +22,10 @@
 #include "run/clock.hpp"
 
 namespace nav::bench::detail {
+
+/// The realtime pacer's longest single sleep in a run and a replay: measured against sleeping
+/// straight to each deadline in docs/design-notes.md ("Which timer paces the writes").
+inline constexpr Duration kMaxSleep = std::chrono::milliseconds(1);
 
 /// What is served between writes: a run's reactive devices and CAN bus; nothing in a replay.
 class IdleWork {
@@ -38,6 +44,8 @@ class IdleWork {
   }
   /// Whether poll() and send_due() must run while the pacer waits.
   virtual bool active() const { return false; }
+  /// When active: notified (by the event loop) when poll() has something new.
+  virtual Wakeup* news() { return nullptr; }
   /// The next scenario time send_due() has something, if any.
   virtual std::optional<Duration> next_due() const { return std::nullopt; }
 };
@@ -59,8 +67,8 @@ class Pacer {
 
 class RealtimePacer final : public Pacer {
  public:
-  /// stop ends every wait; poll_period bounds the sleeps while there is idle work.
-  RealtimePacer(Clock& clock, const std::atomic<bool>& stop, Duration poll_period);
+  /// stop ends every wait; max_sleep: the longest single sleep.
+  RealtimePacer(Clock& clock, const std::atomic<bool>& stop, Duration max_sleep);
   /// Scenario time `origin` is at t0 on the clock; scenario time runs `speed` times faster.
   void set_origin(Timestamp t0, Duration origin = Duration{0}, double speed = 1.0);
   bool lockstep() const override { return false; }
@@ -76,7 +84,7 @@ class RealtimePacer final : public Pacer {
  private:
   Clock& clock_;
   const std::atomic<bool>& stop_;
-  Duration poll_period_;
+  Duration max_sleep_;
   Timestamp t0_{};
   Duration origin_{0};
   double speed_ = 1.0;

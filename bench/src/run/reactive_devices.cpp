@@ -16,8 +16,9 @@
 namespace nav::bench::detail {
 
 ReactiveDevices::ReactiveDevices(const Scenario& sc, const std::vector<RunDevice>& devices,
-                                 std::vector<BenchLine>& lines, RunLog& log)
-    : sc_(sc), devices_(devices), lines_(lines), log_(log) {
+                                 std::vector<BenchLine>& lines, RunLog& log, EventLoop& loop,
+                                 Wakeup& news)
+    : sc_(sc), devices_(devices), lines_(lines), log_(log), news_(news) {
   const auto n = devices.size();
   streaming_.assign(n, 1);
   host_rx_.assign(n, {});
@@ -48,7 +49,24 @@ ReactiveDevices::ReactiveDevices(const Scenario& sc, const std::vector<RunDevice
     for (const auto d : node_device_) nodes.push_back(&*devices[d].truth);
     channel_ = std::make_unique<emulators::AcousticChannel>(sc.acoustic, std::move(nodes), sc.seed);
   }
+  // The lines the DUT writes to: a GX3's, a polled device's, a modem's.
+  std::vector<int> fds(n, -1);
+  bool any = false;
+  for (std::uint32_t d = 0; d < n; ++d) {
+    if (device_kind(devices[d].spec).commanded || polled_[d] || modem_node_[d] >= 0) {
+      fds[d] = lines[d].fd();
+      any = true;
+    }
+  }
+  if (any) {
+    host_lines_ = std::make_unique<HostLines>(loop, fds, [&loop, &news] {
+      news.notify();
+      loop.poke();  // a wait on the loop for a start command or an answer
+    });
+  }
 }
+
+ReactiveDevices::~ReactiveDevices() = default;
 
 void ReactiveDevices::queue_answer(std::uint32_t d, emulators::WireMessage m) {
   const auto at = std::upper_bound(
@@ -58,48 +76,47 @@ void ReactiveDevices::queue_answer(std::uint32_t d, emulators::WireMessage m) {
 }
 
 void ReactiveDevices::poll_host_lines(Duration scenario_t) {
+  if (!host_lines_) return;
+  const bool lockstep = sc_.mode == TimeMode::kLockstep;
+  for (auto& r : lockstep ? host_lines_->take() : host_lines_->take_ready()) {
+    // Realtime: when the loop read the bytes (before 0 during the DUTs' startup).
+    const Duration t = lockstep ? scenario_t : r.rx - t0_;
+    on_host_bytes(r.line, r.bytes, t);
+  }
+}
+
+void ReactiveDevices::on_host_bytes(std::uint32_t d, std::span<const std::uint8_t> got,
+                                    Duration scenario_t) {
   namespace gx3 = protocols::gx3;
-  for (std::uint32_t d = 0; d < devices_.size(); ++d) {
-    const bool commanded = device_kind(devices_[d].spec).commanded;
-    if (!commanded && !polled_[d] && modem_node_[d] < 0) continue;
-    std::array<std::uint8_t, 256> buf{};
-    for (;;) {
-      // A non-blocking read of a pty master first pushes what the DUT has written to its
-      // slave, so in lockstep a request written before the DUT's solution is read here.
-      const ssize_t n = ::read(lines_[d].fd(), buf.data(), buf.size());
-      if (n <= 0) break;  // nothing (EAGAIN) or a line error: the senders see those
-      const std::span<const std::uint8_t> got(buf.data(), static_cast<std::size_t>(n));
-      const std::string& name = devices_[d].spec.name;
-      if (modem_node_[d] >= 0) {
-        // Channel times never go backwards (lockstep stamps need not be monotonic across
-        // lines); a write before scenario time 0 counts as at 0.
-        const Duration t = std::max({scenario_t, Duration{0}, channel_time_});
-        channel_time_ = t;
-        write_capture_line(log_.rx.get(), t, name, got);
-        channel_->on_bytes(static_cast<std::size_t>(modem_node_[d]), got, t);
-        continue;
-      }
-      write_capture_line(log_.rx.get(), scenario_t, name, got);
-      if (polled_[d]) {
-        // A request before scenario time 0 (during the DUT's startup) is answered as at 0.
-        const Duration t = std::max(scenario_t, Duration{0});
-        for (auto& a : polled_[d]->on_bytes(got, t)) queue_answer(d, std::move(a));
-        continue;
-      }
-      auto& rx = host_rx_[d];
-      rx.insert(rx.end(), got.begin(), got.end());
-      std::size_t pos = 0;
-      while (pos < rx.size()) {
-        const auto r = gx3::parse_host_command(protocols::ByteSpan(rx.data() + pos, rx.size() - pos));
-        if (r.status == protocols::ParseStatus::kNeedMore) break;
-        pos += std::max<std::size_t>(r.consumed, 1);
-        if (r.status == protocols::ParseStatus::kComplete && r.message) {
-          handle_host_command(d, *r.message, scenario_t);
-        }
-      }
-      rx.erase(rx.begin(), rx.begin() + static_cast<std::ptrdiff_t>(pos));
+  const std::string& name = devices_[d].spec.name;
+  if (modem_node_[d] >= 0) {
+    // Channel times never go backwards (lockstep stamps need not be monotonic across
+    // lines); a write before scenario time 0 counts as at 0.
+    const Duration t = std::max({scenario_t, Duration{0}, channel_time_});
+    channel_time_ = t;
+    write_capture_line(log_.rx.get(), t, name, got);
+    channel_->on_bytes(static_cast<std::size_t>(modem_node_[d]), got, t);
+    return;
+  }
+  write_capture_line(log_.rx.get(), scenario_t, name, got);
+  if (polled_[d]) {
+    // A request before scenario time 0 (during the DUT's startup) is answered as at 0.
+    const Duration t = std::max(scenario_t, Duration{0});
+    for (auto& a : polled_[d]->on_bytes(got, t)) queue_answer(d, std::move(a));
+    return;
+  }
+  auto& rx = host_rx_[d];
+  rx.insert(rx.end(), got.begin(), got.end());
+  std::size_t pos = 0;
+  while (pos < rx.size()) {
+    const auto r = gx3::parse_host_command(protocols::ByteSpan(rx.data() + pos, rx.size() - pos));
+    if (r.status == protocols::ParseStatus::kNeedMore) break;
+    pos += std::max<std::size_t>(r.consumed, 1);
+    if (r.status == protocols::ParseStatus::kComplete && r.message) {
+      handle_host_command(d, *r.message, scenario_t);
     }
   }
+  rx.erase(rx.begin(), rx.begin() + static_cast<std::ptrdiff_t>(pos));
 }
 
 void ReactiveDevices::handle_host_command(std::uint32_t d, const protocols::gx3::HostCommand& c,

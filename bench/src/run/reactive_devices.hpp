@@ -13,6 +13,7 @@
 #include <deque>
 #include <memory>
 #include <optional>
+#include <span>
 #include <vector>
 
 #include "lines/bench_line.hpp"
@@ -21,29 +22,37 @@
 #include "nav/emulators/keller_emulator.hpp"
 #include "nav/protocols/microstrain_gx3.hpp"
 #include "run/device_streams.hpp"
+#include "run/event_loop.hpp"
+#include "run/host_lines.hpp"
 #include "run/run_log.hpp"
+#include "run/wakeup.hpp"
 
 namespace nav::bench::detail {
 
 class ReactiveDevices {
  public:
   /// lines: one per device (devices order); log: captures, tally and lateness it adds to.
-  /// The devices' truths (RunDevice::truth) place a Keller's sensor and each modem.
+  /// The devices' truths (RunDevice::truth) place a Keller's sensor and each modem. The
+  /// lines are read on loop, which notifies news when the DUT wrote to one.
   ReactiveDevices(const Scenario& sc, const std::vector<RunDevice>& devices,
-                  std::vector<BenchLine>& lines, RunLog& log);
+                  std::vector<BenchLine>& lines, RunLog& log, EventLoop& loop, Wakeup& news);
+  ~ReactiveDevices();
 
   /// Scenario time 0 on CLOCK_MONOTONIC (realtime captures and lateness are stamped from it).
   void set_t0(Timestamp t0) { t0_ = t0; }
 
   /// Whether any line must be read while the bench waits (a polled device or a modem).
   bool any_to_read() const { return any_to_read_; }
+  /// Notified when the DUT wrote to a GX3's, polled device's or modem's line.
+  Wakeup& news() { return news_; }
   /// Whether device d sends its stream: a GX3 only once it got the set-continuous command
   /// (unless `continuous`), every other device always.
   bool streaming(std::uint32_t d) const { return streaming_[d] != 0; }
 
-  /// Reads what the DUT wrote to each GX3's, polled device's and modem's line: acts on a
+  /// Takes what the DUT wrote to each GX3's, polled device's and modem's line: acts on a
   /// GX3's commands, queues a polled device's answers, hands a modem's bytes to the channel.
-  /// scenario_t: the scenario time now (device timer, request time, captures).
+  /// scenario_t: lockstep, the scenario time of what was taken (device timer, request time,
+  /// captures); realtime stamps each read with its own time instead.
   void poll_host_lines(Duration scenario_t);
   /// Writes every queued answer and channel delivery due at or before scenario_t.
   void send_due_answers(Duration scenario_t);
@@ -77,12 +86,16 @@ class ReactiveDevices {
   void poll_channel(Duration scenario_t);
   /// Writes bytes to device d's line at once, waiting briefly for room; counts them.
   void write_now(std::uint32_t d, const protocols::Bytes& bytes, Duration scenario_t);
+  /// Acts on bytes the DUT wrote to device d's line, at scenario time t.
+  void on_host_bytes(std::uint32_t d, std::span<const std::uint8_t> got, Duration t);
 
   const Scenario& sc_;
   const std::vector<RunDevice>& devices_;
   std::vector<BenchLine>& lines_;
   RunLog& log_;
   Timestamp t0_{};
+  Wakeup& news_;
+  std::unique_ptr<HostLines> host_lines_;  ///< null: no line to read
   bool any_to_read_ = false;
   std::vector<char> streaming_;                 ///< per device
   std::vector<protocols::Bytes> host_rx_;       ///< per GX3: command bytes not parsed yet

@@ -15,7 +15,7 @@ namespace {
 
 using namespace std::chrono_literals;
 
-constexpr Duration kCheckPeriod = 50ms;    // how often the DUT is watched while sending
+constexpr Duration kWaitSlice = 10ms;      // a wait for the DUT looks at stop and the watchdog
 constexpr Duration kProgressPeriod = 10s;  // progress lines on long runs
 
 }  // namespace
@@ -108,7 +108,7 @@ bool RunWires::frame_done(std::size_t i, bool sent) {
 bool RunWires::trigger_sent(Vehicle& veh, TriggerRecord& tr, Timestamp wire_end) {
   tr.sent = true;
   tr.wire_end = wire_end;
-  veh.note_trigger_sent(tr);
+  p_.watch->note_trigger_sent(veh, tr);
   // Answers naming this tag the DUT owes so far: a tag that wrapped counts again.
   ++veh.answers_expected[tr.tag];
   return !lockstep_ || barrier(veh, tr);
@@ -124,15 +124,10 @@ void RunWires::progress(Duration scenario_t) {
 }
 
 bool RunWires::go_on(Duration t) {
-  if (lockstep_) {
-    progress(t);
-    return true;  // lockstep watches the DUTs while it waits for them
-  }
-  if (t >= next_check_) {
-    if (!p_.watch->ok(monotonic_now())) return false;
-    next_check_ = t + kCheckPeriod;
-    progress(t);
-  }
+  // Lockstep stops at the barrier of the trigger a failed DUT did not answer; realtime at
+  // the next write after the watchdog's verdict.
+  if (!lockstep_ && !p_.watch->ok()) return false;
+  progress(t);
   return true;
 }
 
@@ -143,11 +138,13 @@ PlayHost::Begin RunWires::begin(std::uint32_t k) {
   Vehicle& veh = watch.vehicle_of(m.device);
   if (failed_) return Begin::kStop;  // a CAN trigger went unanswered
   if (lockstep_ && !reactive.streaming(m.device) && is_trigger(k) && veh.triggers_sent == 0) {
-    // The first trigger waits for the DUT's start command, as long as the watchdog allows.
-    const int fd = (*p_.lines)[m.device].fd();
+    // The first trigger waits for the DUT's start command, as long as the watchdog allows;
+    // the event loop wakes the wait when the DUT writes to a device line.
     const Timestamp wait_end = monotonic_now() + veh.dut->watchdog;
-    while (!reactive.streaming(m.device)) {
-      if (*p_.stop || !watch.ok(monotonic_now())) return Begin::kStop;
+    for (;;) {
+      reactive.poll_host_lines(m.start);
+      if (reactive.streaming(m.device)) break;
+      if (*p_.stop || !watch.ok()) return Begin::kStop;
       if (monotonic_now() > wait_end) {
         char t[200];
         std::snprintf(t, sizeof t, "hung: no start command (C4 C1 29 CB) on '%s' within %.1f s",
@@ -155,9 +152,7 @@ PlayHost::Begin RunWires::begin(std::uint32_t k) {
         watch.set_hung(veh, t);
         return Begin::kStop;
       }
-      pollfd p{fd, POLLIN, 0};
-      ::poll(&p, 1, 10);
-      reactive.poll_host_lines(m.start);
+      reactive.news().wait_until(std::min(wait_end, monotonic_now() + kWaitSlice), *p_.stop);
     }
   }
   // A GX3 not (yet) told to stream sends nothing.
@@ -183,7 +178,7 @@ std::size_t RunWires::write(std::uint32_t k, std::uint32_t offset, std::uint32_t
       continue;
     }
     // The DUT has not read its input yet: wait for room, as long as the watchdog allows.
-    if (!p_.watch->ok(monotonic_now()) || monotonic_now() > give_up) break;
+    if (!p_.watch->ok() || monotonic_now() > give_up) break;
     pollfd p{fd, POLLOUT, 0};
     ::poll(&p, 1, 10);
   }
@@ -219,11 +214,10 @@ bool RunWires::done(std::uint32_t k, Timestamp first, Timestamp end) {
 bool RunWires::barrier(Vehicle& veh, const TriggerRecord& tr) {
   // The next message or frame leaves only once the DUT of its vehicle answered this trigger:
   // one more answer naming its tag than it owed before.
+  // A DUT that does not answer within its watchdog period is judged hung by the watchdog.
   const std::size_t count = veh.answers_expected[tr.tag];
-  const Timestamp deadline = tr.wire_end + veh.dut->watchdog;
-  while (!veh.reader->wait_for(tr.tag, std::min(deadline, monotonic_now() + kCheckPeriod),
-                               count)) {
-    if (*p_.stop || !p_.watch->ok(monotonic_now())) return false;
+  while (!veh.reader->wait_for(tr.tag, monotonic_now() + kWaitSlice, count)) {
+    if (*p_.stop || !p_.watch->ok()) return false;
   }
   return true;
 }
@@ -238,9 +232,9 @@ bool RunWires::wait_for_repeat_answer(Vehicle& veh, const ScheduledMessage& m) {
   if (expected == veh.answers_expected.end()) return true;  // its original was never sent
   const std::size_t count = ++expected->second;
   const Timestamp deadline = monotonic_now() + veh.dut->watchdog;
-  while (!veh.reader->wait_for(*repeated, std::min(deadline, monotonic_now() + kCheckPeriod),
+  while (!veh.reader->wait_for(*repeated, std::min(deadline, monotonic_now() + kWaitSlice),
                                count)) {
-    if (*p_.stop || !p_.watch->ok(monotonic_now())) return false;
+    if (*p_.stop || !p_.watch->ok()) return false;
     if (monotonic_now() >= deadline) {
       --expected->second;  // this DUT does not answer copies: it owes none for this one
       break;

@@ -2,7 +2,7 @@
 // A run's side of the wire player (wire_player.hpp): its serial streams as one schedule, its
 // vehicles' triggers, and what happens around each write. Private to nav_bench.
 //
-//   realtime: the DUTs are watched every 50 ms; a GX3 not told to stream sends nothing; a
+//   realtime: the play stops at the watchdog's verdict (dut_watch.hpp); a GX3 not told to stream sends nothing; a
 //             line never blocks (bytes the DUT does not take are lost, like a UART overrun);
 //             every message's lateness is measured at its first byte;
 //   lockstep: the first trigger waits for the DUT's start command; a message waits for room
@@ -66,11 +66,12 @@ class RunWires final : public PlayHost {
   void send_due(Duration t) override { p_.reactive->send_due_answers(t); }
   void send_can_due(Duration t, const std::function<void(Duration)>& wait) override;
   bool active() const override { return p_.reactive->any_to_read(); }
+  Wakeup* news() override { return &p_.reactive->news(); }
   std::optional<Duration> next_due() const override { return p_.reactive->next_due(); }
 
   // PlayHost.
   bool go_on(Duration t) override;
-  bool alive() override { return !failed_ && p_.watch->ok(monotonic_now()); }
+  bool alive() override { return !failed_ && p_.watch->ok(); }
   Begin begin(std::uint32_t k) override;
   void skipped(std::uint32_t k) override { ++suppressed_[schedule_.messages[k].device]; }
   std::size_t size(std::uint32_t k) const override {
@@ -108,7 +109,6 @@ class RunWires final : public PlayHost {
   bool failed_ = false;  ///< a CAN trigger's barrier failed: the play stops
   std::vector<std::size_t> suppressed_;
   Timestamp t0_{};
-  Duration next_check_{0};
   Duration next_progress_;
 };
 

@@ -17,6 +17,7 @@
 
 #include <signal.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cstdio>
@@ -54,7 +55,9 @@ using namespace detail;
 
 std::atomic<bool> g_interrupted{false};  ///< set by SIGINT/SIGTERM (the event loop's signal_set)
 
-constexpr Duration kPollPeriod = 1ms;  // realtime: how often polled lines are read
+/// Wakes the player when the event loop has news for it: a DUT wrote to a device line, or a
+/// signal came.
+Wakeup g_news;
 
 /// The program argv[0] names, resolved as the DUT was started, and its SHA-256.
 std::pair<std::string, std::string> executable_identity(const std::vector<std::string>& argv) {
@@ -118,13 +121,13 @@ reports::RunRecord play_run(const Scenario& sc, const VehicleTruths& truths,
   mount_devices(devices, truths);
   const DeviceStreams streams = generate_device_streams(sc, devices);
   log.tally.reset(devices.size(), sc.duration);
-  ReactiveDevices reactive(sc, devices, lines, log);
-  DutWatch watch(sc, devices, truths, g_interrupted, loop);
+  ReactiveDevices reactive(sc, devices, lines, log, loop, g_news);
+  DutWatch watch(sc, devices, truths, g_interrupted, loop, g_news);
   CanSender can(sc, streams.can, std::move(can_socket), devices.size(), log);
   SystemClock clock;
   RunWires wires({&sc, &devices, &streams, &lines, &log, &reactive, &watch, &can,
                   &g_interrupted, quiet});
-  RealtimePacer realtime(clock, g_interrupted, kPollPeriod);
+  RealtimePacer realtime(clock, g_interrupted, kMaxSleep);
   LockstepPacer lockstep;
   log.tx = open_file(dir / "capture-tx.log");
   log.rx = open_file(dir / "capture-rx.log");
@@ -140,18 +143,22 @@ reports::RunRecord play_run(const Scenario& sc, const VehicleTruths& truths,
   realtime.set_origin(t0);
   watch.start(lines, dir, t0, log);
   try_realtime_priority(20);
-  // The DUTs' startup, on the event loop: until t0 (a timer), a crash or a signal.
-  loop.wait_until(t0, 5ms, [&] {
+  // The loop just below the player: what it reads is stamped as it arrives (DUT latency,
+  // the devices' requests), not when the scheduler gets round to a DUT-loaded machine.
+  loop.call([] { try_realtime_priority(19); });
+  // The DUTs' startup, on the event loop: until t0 (a timer), the watchdog's verdict (a
+  // crash), a signal; the step runs again whenever a DUT writes to a device line.
+  loop.wait_until(t0, 100ms, [&] {
     const Timestamp now = monotonic_now();
-    if (g_interrupted || !watch.ok(now)) return true;
+    if (g_interrupted || !watch.ok()) return true;
     // Realtime answers a start command sent during startup at once; lockstep reads it
     // before its first message, at scenario time 0, so that runs are reproducible.
     if (sc.mode == TimeMode::kRealtime) reactive.poll_host_lines(now - t0);
     return false;
   });
-  if (watch.ok(monotonic_now()) && !g_interrupted) {
+  if (watch.ok() && !g_interrupted) {
     wires.play(sc.mode == TimeMode::kRealtime ? static_cast<Pacer&>(realtime) : lockstep, clock);
-    if (watch.ok(monotonic_now()) && !g_interrupted) watch.drain();
+    if (watch.ok() && !g_interrupted) watch.drain();
   }
   watch.finish(wires.suppressed());
   std::fflush(log.tx.get());
@@ -273,7 +280,7 @@ int run_scenario(const RunOptions& o) {
   // The event loop and its signal_set live until the run folder is complete: a signal while
   // the reports are written is caught, not fatal.
   EventLoop loop;
-  loop.stop_on_signals(g_interrupted);
+  loop.stop_on_signals(g_interrupted, [] { g_news.notify(); });
   ::signal(SIGPIPE, SIG_IGN);
 
   try {

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // The wire player's loop and both pacers on a fake clock: realtime deadlines and chunks, the
-// idle work served while waiting, CAN frames at their own deadlines, lockstep's order and
+// idle work served while waiting (at the event loop's news and at answers due), CAN frames at their own deadlines, lockstep's order and
 // barrier (a CAN trigger's too), serial messages and CAN frames in one wire-time order, a
 // replay's speed.
 #include <gtest/gtest.h>
@@ -26,8 +26,20 @@ class FakeClock final : public Clock {
     sleeps.push_back(t);
     if (t > now_) now_ = t;
   }
+  /// Cut short at the first of news_at after now and before t (the event loop's news).
+  void sleep_until_news(Timestamp t, const std::atomic<bool>& stop, Wakeup&) override {
+    for (const Timestamp n : news_at) {
+      if (n > now_ && n < t) {
+        sleeps.push_back(t);
+        now_ = n;
+        return;
+      }
+    }
+    sleep_until(t, stop);
+  }
   void advance(Duration d) { now_ += d; }
   std::vector<Timestamp> sleeps;
+  std::vector<Timestamp> news_at;
 
  private:
   Timestamp now_{std::chrono::seconds(100)};
@@ -57,6 +69,8 @@ class Recorder : public PlayHost {
     }
   }
   bool active() const override { return work; }
+  Wakeup* news() override { return work ? &wakeup : nullptr; }
+  Wakeup wakeup;
   std::optional<Duration> next_due() const override { return due; }
   bool go_on(Duration) override { return true; }
   bool alive() override { return true; }
@@ -99,37 +113,47 @@ struct Player : ::testing::Test {
   }
   FakeClock clock;
   std::atomic<bool> stop{false};
-  RealtimePacer realtime{clock, stop, 1ms};
+  RealtimePacer realtime{clock, stop, 10ms};  // sleeps of at most 10 ms
   LockstepPacer lockstep;
   Recorder r{clock};
   WireSchedule s = two_messages();
 };
 
-TEST_F(Player, RealtimeSleepsToEachDeadlineWhenThereIsNoIdleWork) {
+TEST_F(Player, RealtimeSleepsToEachDeadlineInSlicesOfAtMostMaxSleep) {
   RealtimePacer& p = realtime;
   p.advance(25ms, r);
   p.advance(40ms, r);
-  ASSERT_EQ(clock.sleeps.size(), 2u);
-  EXPECT_EQ(clock.sleeps[0], kT0 + 25ms);  // absolute deadlines, one sleep each
-  EXPECT_EQ(clock.sleeps[1], kT0 + 40ms);
+  // Absolute sleeps, none longer than 10 ms, the last of each wait ending at its deadline.
+  EXPECT_EQ(clock.sleeps, (std::vector<Timestamp>{kT0 + 10ms, kT0 + 20ms, kT0 + 25ms,
+                                                  kT0 + 35ms, kT0 + 40ms}));
   EXPECT_EQ(r.log, (std::vector<std::string>{"poll 25ms", "poll 40ms"}));  // after each wait
 }
 
-TEST_F(Player, RealtimeServesIdleWorkEveryPollPeriodAndWakesAtWhatFallsDue) {
+TEST_F(Player, RealtimeServesIdleWorkAtTheLoopsNewsAndWakesAtWhatFallsDue) {
   RealtimePacer& p = realtime;
   r.work = true;
-  r.due = 1500us;  // an answer due between two poll periods
+  r.due = 2ms;                     // an answer due before the write
+  clock.news_at = {kT0 + 1ms};     // the DUT writes to a device line at 1 ms
   p.advance(3ms, r);
-  // Slices of at most 1 ms, the second cut short at the answer's time, which is then sent.
-  ASSERT_EQ(clock.sleeps.size(), 4u);
-  EXPECT_EQ(clock.sleeps[0], kT0 + 1ms);
-  EXPECT_EQ(clock.sleeps[1], kT0 + 1500us);
-  EXPECT_EQ(clock.sleeps[2], kT0 + 2500us);
-  EXPECT_EQ(clock.sleeps[3], kT0 + 3ms);
+  // A sleep to the answer's time, cut short by the news; one to the answer; one to the write.
+  ASSERT_EQ(clock.sleeps.size(), 3u);
+  EXPECT_EQ(clock.sleeps[0], kT0 + 2ms);
+  EXPECT_EQ(clock.sleeps[1], kT0 + 2ms);
+  EXPECT_EQ(clock.sleeps[2], kT0 + 3ms);
   EXPECT_EQ(r.log, (std::vector<std::string>{"poll 0ms", "due 0ms", "poll 1ms", "due 1ms",
-                                             "poll 1ms", "due 1ms", "poll 2ms", "due 2ms",
-                                             "poll 3ms", "due 3ms", "poll 3ms"}));
+                                             "poll 2ms", "due 2ms", "poll 3ms", "due 3ms",
+                                             "poll 3ms"}));
   EXPECT_FALSE(r.due.has_value());
+}
+
+TEST_F(Player, RealtimeServesIdleWorkAfterEverySliceWhenThereIsNoNews) {
+  RealtimePacer& p = realtime;
+  r.work = true;
+  p.advance(25ms, r);
+  EXPECT_EQ(clock.sleeps, (std::vector<Timestamp>{kT0 + 10ms, kT0 + 20ms, kT0 + 25ms}));
+  EXPECT_EQ(r.log, (std::vector<std::string>{"poll 0ms", "due 0ms", "poll 10ms", "due 10ms",
+                                             "poll 20ms", "due 20ms", "poll 25ms", "due 25ms",
+                                             "poll 25ms"}));
 }
 
 TEST_F(Player, RealtimeCanFramesGoAtTheirOwnDeadlinesBeforeTheWrite) {
