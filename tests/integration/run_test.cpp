@@ -425,6 +425,24 @@ TEST(NavbenchRun, MissingSerialDeviceIsABenchErrorBeforeAnythingStarts) {
   EXPECT_FALSE(fs::exists(dir / "run.partial"));
 }
 
+TEST(NavbenchRun, PortsTheDutHadNotOpenedAtTimeZeroAreNamedInAWarning) {
+  const auto dir = fresh_dir("late-open");
+  const auto r = run_navbench(
+      {"run", source_path("tests/integration/scenarios/late_open.yaml"), "--out", "run"}, dir);
+  EXPECT_TRUE(fs::exists(dir / "run" / "summary.json")) << r.out << r.err;
+  for (const char* device : {"ahrs", "gps"}) {
+    const std::regex warning(std::string("navbench: warning: device '") + device +
+                             "': the DUT had not opened /dev/pts/[0-9]+ at scenario time 0; "
+                             "what is sent before it does is lost \\(give it more "
+                             "dut.startup\\)\n");
+    EXPECT_TRUE(std::regex_search(r.err, warning)) << device << ": " << r.err;
+  }
+  // A DUT that opens its ports in time gets no warning.
+  const auto fine = run_navbench(
+      {"run", source_path("tests/integration/scenarios/open_in_time.yaml"), "--out", "fine"}, dir);
+  EXPECT_EQ(fine.err.find("warning"), std::string::npos) << fine.err;
+}
+
 TEST(NavbenchCli, HelpAndUsageErrors) {
   const auto dir = fresh_dir("cli");
   const auto help = run_navbench({"run", "--help"}, dir);

@@ -10,6 +10,7 @@
 #include <boost/asio/steady_timer.hpp>
 
 #include "devices/device_kind.hpp"
+#include "lines/port_users.hpp"
 
 namespace nav::bench::detail {
 namespace {
@@ -113,6 +114,32 @@ void DutWatch::start(const std::vector<BenchLine>& lines, const std::filesystem:
     };
     watchdog_->timer.expires_after(kWatchPeriod);
     watchdog_->timer.async_wait(Tick{this});
+  });
+}
+
+void DutWatch::warn_of_ports_not_opened(const std::vector<BenchLine>& lines) {
+  std::vector<std::pair<std::string, std::string>> given;  // device name, slave path
+  for (std::size_t d = 0; d < devices_.size(); ++d) {
+    if (!lines[d].is_pty()) continue;
+    const std::string path = lines[d].path();
+    const auto& argv = vehicles_[devices_[d].vehicle].argv;
+    if (std::any_of(argv.begin(), argv.end(),
+                    [&](const std::string& a) { return a.find(path) != std::string::npos; })) {
+      given.emplace_back(devices_[d].spec.name, path);
+    }
+  }
+  if (given.empty()) return;
+  loop_.post([given = std::move(given)] {
+    std::vector<std::string> paths;
+    for (const auto& g : given) paths.push_back(g.second);
+    const auto closed = paths_not_opened_elsewhere(paths);
+    for (const auto& [name, path] : given) {
+      if (std::find(closed.begin(), closed.end(), path) == closed.end()) continue;
+      std::fprintf(stderr,
+                   "navbench: warning: device '%s': the DUT had not opened %s at scenario time "
+                   "0; what is sent before it does is lost (give it more dut.startup)\n",
+                   name.c_str(), path.c_str());
+    }
   });
 }
 

@@ -80,6 +80,11 @@ class DutWatch {
   void start(const std::vector<BenchLine>& lines, const std::filesystem::path& dir, Timestamp t0,
              RunLog& log);
 
+  /// At scenario time 0: on the loop (the caller goes on), a warning on stderr for each pty
+  /// a DUT was given but has not opened yet. What the bench writes to it before the DUT
+  /// opens it is lost (LibSerial flushes a port it opens; docs/dut-contract.md §7).
+  void warn_of_ports_not_opened(const std::vector<BenchLine>& lines);
+
   /// False once a DUT crashed or hung (its vehicle's status says how).
   bool ok() const { return !failed_; }
   bool crashed() const { return crashed_; }

@@ -157,6 +157,7 @@ reports::RunRecord play_run(const Scenario& sc, const VehicleTruths& truths,
     return false;
   });
   if (watch.ok() && !g_interrupted) {
+    watch.warn_of_ports_not_opened(lines);
     wires.play(sc.mode == TimeMode::kRealtime ? static_cast<Pacer&>(realtime) : lockstep, clock);
     if (watch.ok() && !g_interrupted) watch.drain();
   }
