@@ -115,6 +115,31 @@ TEST(NavbenchRun, DutThatStopsAnsweringIsReportedHung) {
   EXPECT_EQ(summary(dir / "run")["verdict"], "DUT hung");
 }
 
+// A DUT that answers every trigger with a solution naming one never sent used to keep a
+// lockstep run waiting forever (the watchdog saw answers arriving): it is hung.
+TEST(NavbenchRun, LockstepDutWhoseSolutionsNameNoSentTriggerIsReportedHung) {
+  const auto dir = fresh_dir("lies");
+  const auto r = run_navbench(
+      {"run", source_path("tests/integration/scenarios/dut_lies.yaml"), "--out", "run"}, dir);
+  EXPECT_EQ(r.exit_code, 4) << r.out << r.err;
+  EXPECT_NE(r.out.find("VERDICT: DUT hung"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("hung: no solution naming trigger"), std::string::npos) << r.out;
+  EXPECT_LT(r.wall_s, 9.0);
+}
+
+// A lockstep crash is reported at the scenario time the run had reached, not at the
+// wall-clock time since t0 (lockstep runs faster than real time).
+TEST(NavbenchRun, LockstepCrashIsReportedAtItsScenarioTime) {
+  const auto dir = fresh_dir("crash-lockstep");
+  const auto r = run_navbench(
+      {"run", source_path("tests/integration/scenarios/dut_crashes_lockstep.yaml"), "--out",
+       "run"},
+      dir);
+  EXPECT_EQ(r.exit_code, 4) << r.out << r.err;
+  const std::regex crashed(R"(crashed: exited with status 3 at t=3\.0[0-9]{2} s)");
+  EXPECT_TRUE(std::regex_search(r.out, crashed)) << r.out;
+}
+
 // A DUT that never sends the GX3 start command gets no AHRS packets: no trigger is sent, so
 // the watchdog (which times answers to triggers) never fires and the DUT is not "hung"; the
 // run lasts its whole duration and fails on its error checks ("no solutions"), exit 1.

@@ -165,7 +165,7 @@ bool DutWatch::vehicle_ok(Vehicle& veh, std::size_t sent, Timestamp now) {
     crashed_ = true;
     veh.failed = true;
     char t[64];
-    std::snprintf(t, sizeof t, " at t=%.3f s", to_seconds(now - t0_));
+    std::snprintf(t, sizeof t, " at t=%.3f s", to_seconds(scenario_time(now)));
     veh.status = "crashed: " + veh.proc->exit_description() + t;
     return false;
   }
@@ -179,13 +179,19 @@ bool DutWatch::vehicle_ok(Vehicle& veh, std::size_t sent, Timestamp now) {
   if (waiting != sent_end && now - *waiting > veh.dut->watchdog) {
     char t[128];
     std::snprintf(t, sizeof t, "hung: no solution for %.1f s at t=%.3f s",
-                  to_seconds(now - std::max(*waiting, last_answer)), to_seconds(now - t0_));
+                  to_seconds(now - std::max(*waiting, last_answer)),
+                  to_seconds(scenario_time(now)));
     hung_ = true;
     veh.failed = true;
     veh.status = t;
     return false;
   }
   return true;
+}
+
+Duration DutWatch::scenario_time(Timestamp now) const {
+  if (sc_.mode == TimeMode::kLockstep) return Duration{scenario_ns_.load(std::memory_order_relaxed)};
+  return now - t0_;
 }
 
 void DutWatch::set_hung(Vehicle& v, std::string status) {

@@ -91,6 +91,10 @@ class DutWatch {
   bool hung() const { return hung_; }
   /// Records that a vehicle's DUT hung for a reason only the player sees.
   void set_hung(Vehicle& v, std::string status);
+  /// The player has reached scenario time t (what a lockstep verdict names; realtime names
+  /// the clock's).
+  void at_scenario_time(Duration t) { scenario_ns_.store(t.count(), std::memory_order_relaxed); }
+
   /// A trigger of vehicle v has left (its wire_end set): the watchdog waits for its answer.
   void note_trigger_sent(Vehicle& v, const TriggerRecord& tr);
 
@@ -130,6 +134,9 @@ class DutWatch {
   /// Guards each vehicle's failed and status and the verdict (the watchdog's and set_hung's).
   mutable std::mutex mutex_;
   std::atomic<bool> failed_{false};
+  std::atomic<Duration::rep> scenario_ns_{0};  ///< at_scenario_time()
+  /// The scenario time of a verdict made at now: lockstep, the player's; realtime, the clock's.
+  Duration scenario_time(Timestamp now) const;
   std::atomic<bool> crashed_{false}, hung_{false};
   std::unique_ptr<Watchdog> watchdog_;
   bool primary_alive_ = false;  ///< set by finish()

@@ -126,6 +126,7 @@ void RunWires::progress(Duration scenario_t) {
 bool RunWires::go_on(Duration t) {
   // Lockstep stops at the barrier of the trigger a failed DUT did not answer; realtime at
   // the next write after the watchdog's verdict.
+  p_.watch->at_scenario_time(t);
   if (!lockstep_ && !p_.watch->ok()) return false;
   progress(t);
   return true;
@@ -214,10 +215,23 @@ bool RunWires::done(std::uint32_t k, Timestamp first, Timestamp end) {
 bool RunWires::barrier(Vehicle& veh, const TriggerRecord& tr) {
   // The next message or frame leaves only once the DUT of its vehicle answered this trigger:
   // one more answer naming its tag than it owed before.
-  // A DUT that does not answer within its watchdog period is judged hung by the watchdog.
+  // A DUT that answers nothing is judged hung by the watchdog; one that answers, but never
+  // names this trigger, here, one watchdog period after the trigger left.
   const std::size_t count = veh.answers_expected[tr.tag];
-  while (!veh.reader->wait_for(tr.tag, monotonic_now() + kWaitSlice, count)) {
+  const Timestamp deadline = tr.wire_end + veh.dut->watchdog;
+  while (!veh.reader->wait_for(tr.tag, std::min(deadline, monotonic_now() + kWaitSlice),
+                               count)) {
     if (*p_.stop || !p_.watch->ok()) return false;
+    if (monotonic_now() >= deadline) {
+      char t[200];
+      std::snprintf(t, sizeof t,
+                    "hung: no solution naming trigger %llu (sent at t=%.3f s) within %.1f s; "
+                    "%zu solutions so far",
+                    static_cast<unsigned long long>(tr.tag), to_seconds(tr.t_valid),
+                    to_seconds(veh.dut->watchdog), veh.reader->answer_count());
+      p_.watch->set_hung(veh, t);
+      return false;
+    }
   }
   return true;
 }

@@ -1,0 +1,81 @@
+// SPDX-License-Identifier: MIT
+// A DUT that misbehaves on purpose, for the bench's tests. It reads the GX3 0xCB packets on
+// its trigger port (the AHRS streams from power-on: `continuous: true`) and answers each with
+// a well-formed $PNVBSOL solution, except that:
+//
+//   --lie            every solution names trigger 4000000000, which was never sent: a bench
+//                    must judge it hung, not wait forever for the trigger it sent;
+//   --crash-at SEC   it exits (status 3) on the first packet at or after scenario time SEC
+//                    (timer ticks / 62500 from the first packet): a lockstep bench must name
+//                    that scenario time.
+//
+//   lying_dut --ahrs PATH --output PATH [--lie] [--crash-at SEC]
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "nav/protocols/microstrain_gx3.hpp"
+#include "nav/protocols/navd_solution.hpp"
+
+namespace gx3 = nav::protocols::gx3;
+
+int main(int argc, char** argv) {
+  std::string ahrs_path, output_path;
+  bool lie = false;
+  double crash_at = -1.0;
+  for (int i = 1; i < argc; ++i) {
+    const std::string k = argv[i];
+    if (k == "--lie") {
+      lie = true;
+    } else if (i + 1 < argc && k == "--ahrs") {
+      ahrs_path = argv[++i];
+    } else if (i + 1 < argc && k == "--output") {
+      output_path = argv[++i];
+    } else if (i + 1 < argc && k == "--crash-at") {
+      crash_at = std::atof(argv[++i]);
+    }
+  }
+  if (ahrs_path.empty() || output_path.empty()) {
+    std::fprintf(stderr, "usage: lying_dut --ahrs PATH --output PATH [--lie] [--crash-at SEC]\n");
+    return 2;
+  }
+  const int in = ::open(ahrs_path.c_str(), O_RDONLY | O_NOCTTY);
+  const int out = ::open(output_path.c_str(), O_WRONLY | O_NOCTTY);
+  if (in < 0 || out < 0) {
+    std::perror("lying_dut: open");
+    return 1;
+  }
+  nav::protocols::navd::Solution s;
+  s.input = "AHRS";
+  std::optional<std::uint32_t> first;
+  std::vector<std::uint8_t> rx;
+  std::uint8_t buf[256];
+  for (;;) {
+    const ssize_t n = ::read(in, buf, sizeof buf);
+    if (n <= 0) return 0;
+    rx.insert(rx.end(), buf, buf + n);
+    std::size_t pos = 0;
+    while (pos < rx.size()) {
+      const auto r = gx3::parse(nav::protocols::ByteSpan(rx.data() + pos, rx.size() - pos));
+      if (r.status == nav::protocols::ParseStatus::kNeedMore) break;
+      pos += r.consumed > 0 ? r.consumed : 1;
+      if (r.status != nav::protocols::ParseStatus::kComplete || !r.message) continue;
+      const std::uint32_t ticks = r.message->timer_ticks;
+      if (!first) first = ticks;
+      if (crash_at >= 0 && static_cast<double>(ticks - *first) / gx3::kTicksPerSecond >= crash_at) {
+        return 3;
+      }
+      s.trigger_tag = lie ? 4000000000ULL : ticks;
+      const std::string line = nav::protocols::navd::encode(s);
+      if (::write(out, line.data(), line.size()) < 0) return 0;
+      ++s.seq;
+    }
+    rx.erase(rx.begin(), rx.begin() + static_cast<std::ptrdiff_t>(pos));
+  }
+}
