@@ -7,15 +7,18 @@
 //                    must judge it hung, not wait forever for the trigger it sent;
 //   --crash-at SEC   it exits (status 3) on the first packet at or after scenario time SEC
 //                    (timer ticks / 62500 from the first packet): a lockstep bench must name
-//                    that scenario time.
+//                    that scenario time;
+//   --open-after SEC it opens its ports (and --gps PATH, which it never reads) only SEC after
+//                    it started: a bench must warn that it had not opened them in time.
 //
-//   lying_dut --ahrs PATH --output PATH [--lie] [--crash-at SEC]
+//   lying_dut --ahrs PATH --output PATH [--gps PATH] [--lie] [--crash-at SEC] [--open-after SEC]
 #include <fcntl.h>
 #include <unistd.h>
 
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <ctime>
 #include <optional>
 #include <string>
 #include <vector>
@@ -26,9 +29,9 @@
 namespace gx3 = nav::protocols::gx3;
 
 int main(int argc, char** argv) {
-  std::string ahrs_path, output_path;
+  std::string ahrs_path, output_path, gps_path;
   bool lie = false;
-  double crash_at = -1.0;
+  double crash_at = -1.0, open_after = 0.0;
   for (int i = 1; i < argc; ++i) {
     const std::string k = argv[i];
     if (k == "--lie") {
@@ -39,12 +42,24 @@ int main(int argc, char** argv) {
       output_path = argv[++i];
     } else if (i + 1 < argc && k == "--crash-at") {
       crash_at = std::atof(argv[++i]);
+    } else if (i + 1 < argc && k == "--gps") {
+      gps_path = argv[++i];
+    } else if (i + 1 < argc && k == "--open-after") {
+      open_after = std::atof(argv[++i]);
     }
   }
   if (ahrs_path.empty() || output_path.empty()) {
-    std::fprintf(stderr, "usage: lying_dut --ahrs PATH --output PATH [--lie] [--crash-at SEC]\n");
+    std::fprintf(stderr, "usage: lying_dut --ahrs PATH --output PATH [--gps PATH] [--lie] "
+                         "[--crash-at SEC] [--open-after SEC]\n");
     return 2;
   }
+  if (open_after > 0) {
+    const timespec ts{static_cast<time_t>(open_after),
+                      static_cast<long>((open_after - static_cast<double>(static_cast<time_t>(open_after))) * 1e9)};
+    ::nanosleep(&ts, nullptr);
+  }
+  const int gps = gps_path.empty() ? -1 : ::open(gps_path.c_str(), O_RDONLY | O_NOCTTY);
+  (void)gps;  // held open, never read
   const int in = ::open(ahrs_path.c_str(), O_RDONLY | O_NOCTTY);
   const int out = ::open(output_path.c_str(), O_WRONLY | O_NOCTTY);
   if (in < 0 || out < 0) {

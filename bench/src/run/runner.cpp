@@ -41,6 +41,7 @@
 #include "run/event_loop.hpp"
 #include "run/host_identity.hpp"
 #include "run/reactive_devices.hpp"
+#include "run/run_folder.hpp"
 #include "run/run_log.hpp"
 #include "run/run_record.hpp"
 #include "run/pacer.hpp"
@@ -263,20 +264,14 @@ int run_scenario(const RunOptions& o) {
   const fs::path final_dir =
       o.out_dir.empty() ? fs::path("runs") / (sc->name + "-" + utc_now("%Y%m%dT%H%M%SZ"))
                         : fs::path(o.out_dir);
-  if (fs::exists(final_dir)) {
-    std::fprintf(stderr, "navbench: run folder %s exists already; choose another --out\n",
-                 final_dir.c_str());
-    return kExitUsage;
+  // Everything is written under <dir>.partial, held by this run alone, and renamed into
+  // place when complete.
+  auto claim = RunFolderClaim::claim(final_dir);
+  if (!claim) {
+    std::fprintf(stderr, "navbench: %s\n", claim.error().detail.c_str());
+    return claim.error().code == ErrorCode::kInvalidArgument ? kExitUsage : kExitBench;
   }
-  // Everything is written under <dir>.partial and renamed into place when complete.
-  const fs::path partial = final_dir.string() + ".partial";
-  std::error_code ec;
-  fs::remove_all(partial, ec);
-  fs::create_directories(partial, ec);
-  if (ec) {
-    std::fprintf(stderr, "navbench: cannot create %s: %s\n", partial.c_str(), ec.message().c_str());
-    return kExitBench;
-  }
+  const fs::path partial = claim->partial();
 
   // The event loop and its signal_set live until the run folder is complete: a signal while
   // the reports are written is caught, not fatal.

@@ -1,0 +1,71 @@
+// SPDX-License-Identifier: MIT
+// A run folder belongs to one run: a second run given the same --out while the first writes
+// it is refused at once and touches nothing; a .partial folder left by a run that died is
+// taken over.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <future>
+#include <thread>
+
+#include "navbench_cli.hpp"
+
+namespace nav::testing {
+namespace {
+
+namespace fs = std::filesystem;
+using namespace std::chrono_literals;
+
+TEST(NavbenchRunFolder, ASecondRunIntoTheSameFolderIsRefusedAndTouchesNothing) {
+  const auto dir = fresh_dir("same-out");
+  fs::create_directories(dir / "a");
+  fs::create_directories(dir / "b");
+  const fs::path out = dir / "run";
+  auto first = std::async(std::launch::async, [&] {
+    return run_navbench({"run", source_path("tests/integration/scenarios/open_in_time.yaml"),
+                         "--out", out.string(), "--quiet"},
+                        dir / "a");
+  });
+  // Once the first run holds its folder, start the second.
+  for (auto give_up = std::chrono::steady_clock::now() + 20s;
+       !fs::exists(fs::path(out.string() + ".partial")) && std::chrono::steady_clock::now() < give_up;) {
+    std::this_thread::sleep_for(10ms);
+  }
+  const auto second = run_navbench({"run", source_path("tests/integration/scenarios/late_open.yaml"),
+                                    "--out", out.string(), "--quiet"},
+                                   dir / "b");
+  EXPECT_EQ(second.exit_code, 2) << second.err;
+  EXPECT_EQ(second.err, "navbench: run folder " + out.string() +
+                            " is being written by another run (" + out.string() +
+                            ".partial is locked); choose another --out\n");
+  const auto a = first.get();
+  EXPECT_EQ(a.exit_code, 0) << a.out << a.err;
+  // The folder is the first run's, whole: its scenario, one DUT log.
+  EXPECT_NE(slurp(out / "scenario.yaml").find("it-open-in-time"), std::string::npos);
+  EXPECT_TRUE(fs::exists(out / "summary.json"));
+  EXPECT_FALSE(fs::exists(fs::path(out.string() + ".partial")));
+  // And now that it is complete, a third run into it is refused too.
+  const auto third = run_navbench({"run", source_path("tests/integration/scenarios/late_open.yaml"),
+                                   "--out", out.string(), "--quiet"},
+                                  dir / "b");
+  EXPECT_EQ(third.exit_code, 2);
+  EXPECT_EQ(third.err, "navbench: run folder " + out.string() +
+                           " exists already; choose another --out\n");
+}
+
+TEST(NavbenchRunFolder, APartialFolderLeftByARunThatDiedIsTakenOver) {
+  const auto dir = fresh_dir("stale-partial");
+  fs::create_directories(dir / "run.partial");
+  { std::ofstream(dir / "run.partial" / "leftover.txt") << "from a run killed with -9\n"; }
+  const auto r = run_navbench({"run", source_path("tests/integration/scenarios/open_in_time.yaml"),
+                               "--out", "run", "--quiet"},
+                              dir);
+  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_TRUE(fs::exists(dir / "run" / "summary.json"));
+  EXPECT_FALSE(fs::exists(dir / "run" / "leftover.txt"));
+}
+
+}  // namespace
+}  // namespace nav::testing
