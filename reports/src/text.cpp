@@ -82,6 +82,16 @@ std::string dump_any(const Json& j, int indent) {
 
 }  // namespace
 
+std::optional<std::size_t> first_invalid_utf8(std::string_view s) {
+  for (std::size_t i = 0; i < s.size();) {
+    std::size_t bad = 1;
+    const std::size_t n = sequence_length(s, i, bad);
+    if (n == 0) return i;
+    i += n;
+  }
+  return std::nullopt;
+}
+
 std::string valid_utf8(std::string_view s) {
   return transform(s, [](std::string& out, char c) { out += c; });
 }

@@ -24,6 +24,7 @@
 #include <utility>
 
 #include "nav/common/units.hpp"
+#include "nav/reports/text.hpp"
 #include "scenario/quantity.hpp"
 #include "devices/device_kind.hpp"
 #include "scenario/scenario_devices.hpp"
@@ -358,6 +359,19 @@ std::string expand_scenario_dir(std::string arg, const std::string& dir) {
 Result<Scenario> load_scenario(const std::string& path) {
   const auto text = read_file(path);
   if (!text) return tl::unexpected(text.error());
+  // YAML is Unicode text; a byte that is not UTF-8 would reach labels, the DUT's argv and
+  // every report: refused here, where it can be pointed at.
+  if (const auto bad = reports::first_invalid_utf8(*text)) {
+    const std::string_view before(text->data(), *bad);
+    const auto line = 1 + std::count(before.begin(), before.end(), '\n');
+    const auto line_start = before.rfind('\n');
+    const auto column = *bad - (line_start == std::string_view::npos ? 0 : line_start + 1) + 1;
+    char byte[8];
+    std::snprintf(byte, sizeof byte, "0x%02X", static_cast<unsigned char>((*text)[*bad]));
+    return fail(ErrorCode::kParse, path + ":" + std::to_string(line) + ":" +
+                                       std::to_string(column) + ": not UTF-8 text (byte " + byte +
+                                       "); a scenario file is UTF-8");
+  }
   YAML::Node doc;
   try {
     doc = YAML::Load(*text);

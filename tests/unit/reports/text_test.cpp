@@ -44,6 +44,22 @@ TEST(ValidUtf8, EveryByteStringComesOutValid) {
   }
 }
 
+TEST(FirstInvalidUtf8, PointsAtTheFirstByteValidUtf8WouldReplace) {
+  EXPECT_EQ(first_invalid_utf8(""), std::nullopt);
+  EXPECT_EQ(first_invalid_utf8("plain \xC2\xB0 deg \xE2\x82\xAC"), std::nullopt);
+  EXPECT_EQ(first_invalid_utf8("ab\xFF"), 2u);
+  EXPECT_EQ(first_invalid_utf8("caf\xC3\""), 3u);        // a lead byte cut short
+  EXPECT_EQ(first_invalid_utf8("\xED\xA0\x80"), 0u);    // a surrogate
+  EXPECT_EQ(first_invalid_utf8("ok\xC0\xAF"), 2u);       // an overlong '/'
+  // Agrees with valid_utf8 on every short byte string: invalid exactly where it changes.
+  for (int a = 0; a < 256; ++a) {
+    for (int b = 0; b < 256; b += 7) {
+      const std::string s{static_cast<char>(a), static_cast<char>(b)};
+      EXPECT_EQ(first_invalid_utf8(s).has_value(), valid_utf8(s) != s) << a << " " << b;
+    }
+  }
+}
+
 TEST(HtmlEscape, MarkupBecomesText) {
   EXPECT_EQ(html_escape("<script>alert(1)</script>"), "&lt;script&gt;alert(1)&lt;/script&gt;");
   EXPECT_EQ(html_escape("a & \"b\" 'c'"), "a &amp; &quot;b&quot; &#39;c&#39;");

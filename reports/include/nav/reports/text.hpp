@@ -3,6 +3,8 @@
 // HTML and XML escaping (json_text.hpp: JSON that any byte string survives).
 #pragma once
 
+#include <cstddef>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -13,6 +15,10 @@ namespace nav::reports {
 /// U+FFFD, one per maximal ill-formed subpart as Unicode's "substitution of maximal subparts"
 /// practice says; valid text comes back unchanged.
 std::string valid_utf8(std::string_view s);
+
+/// The offset of the first byte of s that does not begin a well-formed UTF-8 sequence (as
+/// valid_utf8 judges), or nothing when s is valid UTF-8.
+std::optional<std::size_t> first_invalid_utf8(std::string_view s);
 
 /// valid_utf8(s) with & < > " ' as character references: safe as HTML text and in a quoted
 /// attribute value.
