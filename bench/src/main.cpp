@@ -253,6 +253,22 @@ int main(int argc, char** argv) {
       "Exit codes: 0 written; 2 DIR is not a run or campaign folder, or one of its files is\n"
       "damaged (nothing is written); 3 the report cannot be written.");
 
+  // An unknown word where the subcommand goes is named (CLI11 would say only that a
+  // subcommand is required).
+  if (argc > 1 && argv[1][0] != '-') {
+    std::string known;
+    bool found = false;
+    for (const auto* sub : app.get_subcommands([](const CLI::App*) { return true; })) {
+      known += (known.empty() ? "" : ", ") + sub->get_name();
+      found = found || sub->get_name() == argv[1];
+    }
+    if (!found) {
+      std::fprintf(stderr,
+                   "navbench: unknown subcommand '%s' (one of: %s; see navbench --help)\n",
+                   argv[1], known.c_str());
+      return kExitUsage;
+    }
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -69,8 +69,10 @@ std::string verdict_text(const RunRecord& r) {
                   ms(r.bench_lateness.p50_s), ms(r.bench_lateness.p99_s),
                   ms(r.bench_lateness.max_s), r.bench_lateness.count,
                   ms(r.lateness_budget_p99_s));
-  } else {
+  } else if (r.mode == "lockstep") {
     std::snprintf(line, sizeof line, "  bench lateness  n/a (lockstep: virtual time)\n");
+  } else {
+    std::snprintf(line, sizeof line, "  bench lateness  n/a (no message was written)\n");
   }
   o << line;
   std::snprintf(line, sizeof line, "  %-14s  p50 %.3f ms  p99 %.3f ms  max %.3f ms  (%zu)\n",

@@ -99,6 +99,9 @@ TEST(NavbenchRun, DutThatExitsAtOnceIsReportedCrashed) {
       {"run", source_path("tests/integration/scenarios/dut_exits.yaml"), "--out", "run"}, dir);
   EXPECT_EQ(r.exit_code, 4) << r.out << r.err;
   EXPECT_NE(r.out.find("VERDICT: DUT crashed"), std::string::npos) << r.out;
+  // A realtime run that wrote nothing has no lateness, and is not called lockstep.
+  EXPECT_NE(r.out.find("bench lateness  n/a (no message was written)"), std::string::npos)
+      << r.out;
   const auto s = summary(dir / "run");  // the report is still written
   EXPECT_EQ(s["verdict"], "DUT crashed");
   EXPECT_FALSE((*check(s, "dut_alive"))["passed"].get<bool>());
@@ -478,6 +481,10 @@ TEST(NavbenchCli, HelpAndUsageErrors) {
   EXPECT_EQ(missing.exit_code, 2);
   const auto none = run_navbench({}, dir);
   EXPECT_EQ(none.exit_code, 2);
+  const auto unknown = run_navbench({"frobnicate"}, dir);
+  EXPECT_EQ(unknown.exit_code, 2);
+  EXPECT_EQ(unknown.err, "navbench: unknown subcommand 'frobnicate' (one of: run, campaign, "
+                         "decode, replay, record, report; see navbench --help)\n");
 }
 
 }  // namespace

@@ -844,7 +844,8 @@ TEST(LoadScenario, RequirementTextsMustBeOneLineOfUtf8) {
   const std::vector<std::pair<std::string, std::string>> cases{
       {"    req: \"\"\n", "req.yaml:15:10: checks[0].req: expected a requirement id such as NAV-REQ-012, got an empty text"},
       {"    title: \"a\\nb\"\n", "checks[0].title: expected the requirement's title on one line, got control characters"},
-      {"    title: \"bad \xff byte\"\n", "checks[0].title: expected the requirement's title, got bytes that are not UTF-8"},
+      // A byte that is not UTF-8 is refused before the YAML is read, where it stands.
+      {"    title: \"bad \xff byte\"\n", "req.yaml:15:17: not UTF-8 text (byte 0xFF)"},
       {"    req: " + std::string(65, 'R') + "\n", "of at most 64 bytes, got 65"},
       {"    req: [a, b]\n", "checks[0].req: expected a requirement id such as NAV-REQ-012, got a list"},
   };
