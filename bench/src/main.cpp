@@ -107,8 +107,13 @@ int main(int argc, char** argv) {
                   "Override the scenario's time mode: realtime (wall clock, deadlines judged) "
                   "or lockstep (virtual time, one barrier per trigger, bit-reproducible)")
       ->check(CLI::IsMember({"realtime", "lockstep"}));
+  // An empty --out is a mistake (an unset shell variable), not a request for the default.
+  const CLI::Validator not_empty(
+      [](std::string& v) { return v.empty() ? std::string("must not be empty") : std::string(); },
+      "FOLDER");
   cmd->add_option("-o,--out", run.out_dir,
-                  "Run folder to create (default runs/<scenario>-<UTC time>); must not exist");
+                  "Run folder to create (default runs/<scenario>-<UTC time>); must not exist")
+      ->check(not_empty);
   auto* seed_opt = cmd->add_option(
       "--seed", seed,
       "Override the scenario's seed (unsigned 64-bit, 0 to 18446744073709551615): every "
@@ -139,7 +144,8 @@ int main(int argc, char** argv) {
   cam->add_option("-j,--jobs", campaign.jobs, "Runs at a time (default 1)")
       ->check(CLI::Range(1u, 1024u));
   cam->add_option("-o,--out", campaign.out_dir, "Campaign folder to create; must not exist")
-      ->required();
+      ->required()
+      ->check(not_empty);
   cam->add_flag("-q,--quiet", campaign.quiet, "No progress lines");
   cam->footer(
       "Each run is `navbench run SCENARIO --seed s --mode M -o DIR/runs/<name>-s<seed> -q`\n"
@@ -203,8 +209,9 @@ int main(int argc, char** argv) {
   rep->add_option("--format", replay.format,
                   "auto (default: a candump log when its first line is one), navbench or candump")
       ->check(CLI::IsMember({"auto", "navbench", "candump"}));
-  rep->add_option("--speed", replay.speed, "Time scale: 2 plays twice as fast (default 1)")
-      ->check(CLI::PositiveNumber);
+  rep->add_option("--speed", replay.speed,
+                  "Time scale from 0.001 to 1000: 2 plays twice as fast (default 1)")
+      ->check(CLI::Range(0.001, 1000.0));
   rep->add_option("--startup", replay.startup_s,
                   "Seconds to wait after printing the ptys (and starting the DUT) before "
                   "playing (default 1)")

@@ -481,6 +481,18 @@ TEST(NavbenchCli, HelpAndUsageErrors) {
   EXPECT_EQ(missing.exit_code, 2);
   const auto none = run_navbench({}, dir);
   EXPECT_EQ(none.exit_code, 2);
+  // An empty --out (an unset shell variable) is refused, not taken for the default.
+  const auto empty_out = run_navbench(
+      {"run", source_path("tests/integration/scenarios/open_in_time.yaml"), "--out", ""}, dir);
+  EXPECT_EQ(empty_out.exit_code, 2);
+  EXPECT_NE(empty_out.err.find("must not be empty"), std::string::npos) << empty_out.err;
+  EXPECT_FALSE(fs::exists(dir / "runs"));
+  // A replay speed out of range is named with its range, in one short line.
+  const auto speed = run_navbench(
+      {"replay", source_path("tests/integration/scenarios/open_in_time.yaml"), "--speed", "0"}, dir);
+  EXPECT_EQ(speed.exit_code, 2);
+  EXPECT_NE(speed.err.find("0.001"), std::string::npos) << speed.err;
+  EXPECT_LT(speed.err.size(), 200u) << speed.err;
   const auto unknown = run_navbench({"frobnicate"}, dir);
   EXPECT_EQ(unknown.exit_code, 2);
   EXPECT_EQ(unknown.err, "navbench: unknown subcommand 'frobnicate' (one of: run, campaign, "
