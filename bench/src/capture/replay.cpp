@@ -386,10 +386,7 @@ int replay_capture(const ReplayOptions& o) {
   loop.wait_until(start, 5ms, [&] { return g_interrupted || !dut_alive(); });
 
   // --- play --------------------------------------------------------------------------------
-  try_realtime_priority(20);
-  // The loop just below the player: what it reads is stamped as it arrives (DUT latency,
-  // the devices' requests), not when the scheduler gets round to a DUT-loaded machine.
-  loop.call([] { try_realtime_priority(19); });
+  loop.try_realtime_priorities();
   // A navbench capture keeps its offset from t0; a candump log (epoch times) starts at once.
   const Duration base = lines.empty() ? Duration{0}
                         : is_can      ? lines.front().t

@@ -48,11 +48,27 @@ DutWatch::DutWatch(const Scenario& sc, const std::vector<RunDevice>& devices,
 
 DutWatch::~DutWatch() {
   if (!watchdog_) return;
+  stop_watchdog();
+  loop_.call([this] { watchdog_.reset(); });  // after the cancelled wait's handler ran
+}
+
+void DutWatch::stop_watchdog() {
   loop_.call([this] {
     watchdog_->stopped = true;
     watchdog_->timer.cancel();
   });
-  loop_.call([this] { watchdog_.reset(); });  // after the cancelled wait's handler ran
+}
+
+void DutWatch::arm_watchdog() {
+  watchdog_->timer.expires_after(kWatchPeriod);
+  watchdog_->timer.async_wait([this](const boost::system::error_code& ec) {
+    if (ec || watchdog_->stopped) return;
+    {
+      const std::lock_guard<std::mutex> lock(mutex_);
+      if (!look(monotonic_now())) return;  // the verdict is in: no more looks
+    }
+    arm_watchdog();
+  });
 }
 
 std::vector<std::string> DutWatch::argv_of(std::uint32_t v,
@@ -100,20 +116,7 @@ void DutWatch::start(const std::vector<BenchLine>& lines, const std::filesystem:
   // The watchdog: every kWatchPeriod on the loop, until finish().
   loop_.call([this] {
     watchdog_ = std::make_unique<Watchdog>(loop_.context());
-    struct Tick {
-      DutWatch* w;
-      void operator()(const boost::system::error_code& ec) const {
-        if (ec || w->watchdog_->stopped) return;
-        {
-          const std::lock_guard<std::mutex> lock(w->mutex_);
-          if (!w->look(monotonic_now())) return;  // the verdict is in: no more looks
-        }
-        w->watchdog_->timer.expires_after(kWatchPeriod);
-        w->watchdog_->timer.async_wait(*this);
-      }
-    };
-    watchdog_->timer.expires_after(kWatchPeriod);
-    watchdog_->timer.async_wait(Tick{this});
+    arm_watchdog();
   });
 }
 
@@ -240,12 +243,7 @@ Duration DutWatch::max_watchdog() const {
 }
 
 void DutWatch::finish(const std::vector<std::size_t>& suppressed) {
-  if (watchdog_) {
-    loop_.call([this] {
-      watchdog_->stopped = true;
-      watchdog_->timer.cancel();
-    });
-  }
+  if (watchdog_) stop_watchdog();
   for (auto& veh : vehicles_) {
     const bool alive = !crashed_ && !hung_ && veh.proc->running();
     if (alive) veh.status = "alive until the end (pid " + std::to_string(veh.proc->pid()) + ")";

@@ -112,9 +112,15 @@ class DutWatch {
 
  private:
   struct Watchdog;
+  /// On the loop: the watchdog's next look, kWatchPeriod from now.
+  void arm_watchdog();
+  /// Stops the watchdog (from any thread but the loop's).
+  void stop_watchdog();
   /// On the loop, under mutex_: looks at every DUT; false (and the verdict set) once one
   /// crashed or hung.
   bool look(Timestamp now);
+  /// The scenario time of a verdict made at now: lockstep, the player's; realtime, the clock's.
+  Duration scenario_time(Timestamp now) const;
   /// sent: how many of its triggers have been sent.
   bool vehicle_ok(Vehicle& veh, std::size_t sent, Timestamp now);
   /// Under mutex_: the verdict is in; every wait of the player ends.
@@ -135,8 +141,6 @@ class DutWatch {
   mutable std::mutex mutex_;
   std::atomic<bool> failed_{false};
   std::atomic<Duration::rep> scenario_ns_{0};  ///< at_scenario_time()
-  /// The scenario time of a verdict made at now: lockstep, the player's; realtime, the clock's.
-  Duration scenario_time(Timestamp now) const;
   std::atomic<bool> crashed_{false}, hung_{false};
   std::unique_ptr<Watchdog> watchdog_;
   bool primary_alive_ = false;  ///< set by finish()

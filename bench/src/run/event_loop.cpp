@@ -14,6 +14,8 @@
 #include <boost/asio/signal_set.hpp>
 #include <boost/asio/steady_timer.hpp>
 
+#include "nav/bench/realtime.hpp"
+
 namespace nav::bench {
 namespace {
 
@@ -101,6 +103,11 @@ void EventLoop::call(const std::function<void()>& fn) {
     done.set_value();
   });
   done.get_future().wait();
+}
+
+void EventLoop::try_realtime_priorities() {
+  try_realtime_priority(20);
+  call([] { try_realtime_priority(19); });
 }
 
 void EventLoop::post(std::function<void()> fn) { asio::post(impl_->io, std::move(fn)); }

@@ -46,6 +46,11 @@ class EventLoop {
   /// Runs fn on the loop thread later and returns at once (fn must own what it uses).
   void post(std::function<void()> fn);
 
+  /// The calling thread (a player) at SCHED_FIFO 20 and the loop's just below it, when
+  /// permitted: what the loop reads is stamped as it arrives (DUT latency, the devices'
+  /// requests), not when the scheduler gets round to it on a DUT-loaded machine.
+  void try_realtime_priorities();
+
   /// From now until the destructor, SIGINT and SIGTERM set `flag`, end a wait_until and
   /// call `also` (on the loop thread; to wake a thread that waits elsewhere).
   void stop_on_signals(std::atomic<bool>& flag, std::function<void()> also = {});

@@ -24,7 +24,11 @@ struct HostLines::Io {
     std::optional<asio::posix::stream_descriptor> descriptor;
     std::optional<asio::steady_timer> retry;
     std::vector<Received> queue;
-    bool dead = false;  ///< the last read ended in an error or end of file, not EAGAIN
+  };
+  /// What reading a line dry found.
+  struct Read {
+    bool got = false;   ///< bytes were queued
+    bool dead = false;  ///< it ended in an error or end of file, not EAGAIN
   };
   std::vector<Line> lines;
   std::function<void()> on_news;
@@ -34,45 +38,45 @@ struct HostLines::Io {
   std::mutex mutex;
 
   /// Under mutex: reads line i until it has nothing more (EAGAIN, or an error the senders
-  /// see); whether it got anything.
-  bool read_dry(std::uint32_t i) {
+  /// see).
+  Read read_dry(std::uint32_t i) {
     Line& l = lines[i];
-    bool got = false;
+    Read r;
     std::array<std::uint8_t, 512> buf{};
     for (;;) {
       const ssize_t n = ::read(l.fd, buf.data(), buf.size());
       if (n < 0 && errno == EINTR) continue;
       if (n <= 0) {
-        l.dead = n == 0 || (errno != EAGAIN && errno != EWOULDBLOCK);
-        return got;
+        r.dead = n == 0 || (errno != EAGAIN && errno != EWOULDBLOCK);
+        return r;
       }
       l.queue.push_back(Received{i, monotonic_now(),
                                  protocols::Bytes(buf.begin(), buf.begin() + n)});
-      got = true;
+      r.got = true;
     }
   }
   void wait(std::uint32_t i) {
     lines[i].descriptor->async_wait(asio::posix::stream_descriptor::wait_read,
                                     [this, i](const boost::system::error_code& ec) {
-                                      if (ec || stopping) return;
-                                      bool got = false, dead = false;
-                                      {
-                                        const std::lock_guard<std::mutex> lock(mutex);
-                                        got = read_dry(i);
-                                        dead = lines[i].dead;
-                                      }
-                                      if (got && on_news) on_news();
-                                      if (!dead) {
-                                        wait(i);
-                                        return;
-                                      }
-                                      // A line in error stays readable: look again later.
-                                      lines[i].retry->expires_after(std::chrono::milliseconds(20));
-                                      lines[i].retry->async_wait(
-                                          [this, i](const boost::system::error_code& e) {
-                                            if (!e && !stopping) wait(i);
-                                          });
+                                      if (!ec && !stopping) on_readable(i);
                                     });
+  }
+  void on_readable(std::uint32_t i) {
+    Read r;
+    {
+      const std::lock_guard<std::mutex> lock(mutex);
+      r = read_dry(i);
+    }
+    if (r.got && on_news) on_news();
+    if (!r.dead) {
+      wait(i);
+      return;
+    }
+    // A line in error stays readable: look again later.
+    lines[i].retry->expires_after(std::chrono::milliseconds(20));
+    lines[i].retry->async_wait([this, i](const boost::system::error_code& ec) {
+      if (!ec && !stopping) wait(i);
+    });
   }
 };
 

@@ -143,10 +143,7 @@ reports::RunRecord play_run(const Scenario& sc, const VehicleTruths& truths,
   wires.set_t0(t0);
   realtime.set_origin(t0);
   watch.start(lines, dir, t0, log);
-  try_realtime_priority(20);
-  // The loop just below the player: what it reads is stamped as it arrives (DUT latency,
-  // the devices' requests), not when the scheduler gets round to a DUT-loaded machine.
-  loop.call([] { try_realtime_priority(19); });
+  loop.try_realtime_priorities();
   // The DUTs' startup, on the event loop: until t0 (a timer), the watchdog's verdict (a
   // crash), a signal; the step runs again whenever a DUT writes to a device line.
   loop.wait_until(t0, 100ms, [&] {
