@@ -1,9 +1,19 @@
 // SPDX-License-Identifier: MIT
 // DUTs that misbehave in ways navd does not (tests/support/lying_dut): solutions naming a
-// trigger never sent, a crash at a given scenario time in lockstep, ports opened late.
+// trigger never sent, a crash at a given scenario time in lockstep, ports opened late, a DUT
+// (and its child) that ignores SIGTERM and SIGHUP.
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+
+#include <chrono>
 #include <filesystem>
+#include <fstream>
+#include <thread>
+#include <algorithm>
 #include <regex>
 #include <string>
+#include <vector>
 
 #include "navbench_cli.hpp"
 
@@ -54,6 +64,76 @@ TEST(NavbenchRun, PortsTheDutHadNotOpenedAtTimeZeroAreNamedInAWarning) {
       {"run", source_path("tests/integration/scenarios/open_in_time.yaml"), "--out", "fine"}, dir);
   EXPECT_EQ(fine.exit_code, 0) << fine.out << fine.err;
   EXPECT_EQ(fine.err.find("warning"), std::string::npos) << fine.err;
+}
+
+/// Whether process `pid` is gone (or a zombie: it ended, and nobody reaped it yet).
+bool ended(pid_t pid) {
+  std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
+  std::string line;
+  if (!std::getline(stat, line)) return true;
+  const auto paren = line.rfind(')');
+  return paren != std::string::npos && line.size() > paren + 2 && line[paren + 2] == 'Z';
+}
+
+/// Starts navbench on the stubborn DUT's scenario in dir, waits until the DUT wrote its
+/// and its child's pids, ends navbench with `signal`; returns the two pids (empty when the
+/// DUT never started).
+std::vector<pid_t> end_bench_of_stubborn_dut(const fs::path& dir, int signal) {
+  const std::string exe = std::string(NAV_BINARY_DIR) + "/navbench";
+  const std::string scenario = source_path("tests/integration/scenarios/stubborn_dut.yaml");
+  const auto log = dir / "navbench.txt";
+  posix_spawn_file_actions_t fa;
+  posix_spawn_file_actions_init(&fa);
+  posix_spawn_file_actions_addopen(&fa, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_adddup2(&fa, 1, 2);
+  posix_spawn_file_actions_addchdir_np(&fa, dir.c_str());
+  std::vector<std::string> args{exe, "run", scenario, "--out", "run"};
+  std::vector<char*> argv;
+  for (auto& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  pid_t bench = -1;
+  if (::posix_spawn(&bench, exe.c_str(), &fa, nullptr, argv.data(), environ) != 0) return {};
+  posix_spawn_file_actions_destroy(&fa);
+  const auto pid_file = dir / "dut-pids";
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(15);
+  while (!fs::exists(pid_file) && std::chrono::steady_clock::now() < give_up) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));  // the bench's guard is up
+  ::kill(bench, signal);
+  ::waitpid(bench, nullptr, 0);
+  std::ifstream in(pid_file);
+  pid_t dut = 0, child = 0;
+  if (!(in >> dut >> child)) return {};
+  return {dut, child};
+}
+
+/// Whether every pid ended within `within`.
+bool all_end(const std::vector<pid_t>& pids, std::chrono::seconds within) {
+  const auto give_up = std::chrono::steady_clock::now() + within;
+  while (std::chrono::steady_clock::now() < give_up) {
+    if (std::all_of(pids.begin(), pids.end(), ended)) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  return false;
+}
+
+// ^C: the bench stops its DUT, and the whole of the DUT's process group with it.
+TEST(NavbenchRun, InterruptedBenchEndsTheDutsWholeProcessGroup) {
+  const auto dir = fresh_dir("stubborn-int");
+  const auto pids = end_bench_of_stubborn_dut(dir, SIGINT);
+  ASSERT_EQ(pids.size(), 2u) << slurp(dir / "navbench.txt");
+  EXPECT_TRUE(ended(pids[0])) << "the DUT outlived the bench";
+  EXPECT_TRUE(ended(pids[1])) << "the DUT's child outlived the bench";
+}
+
+// kill -9 of the bench: its guard (nav-group-guard) ends the DUT's group.
+TEST(NavbenchRun, BenchKilledWithSigkillTakesTheDutsProcessGroupWithIt) {
+  const auto dir = fresh_dir("stubborn-kill");
+  const auto pids = end_bench_of_stubborn_dut(dir, SIGKILL);
+  ASSERT_EQ(pids.size(), 2u) << slurp(dir / "navbench.txt");
+  EXPECT_TRUE(all_end(pids, std::chrono::seconds(10)))
+      << "the DUT or its child outlived the bench by 10 s";
 }
 
 }  // namespace

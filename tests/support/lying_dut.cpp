@@ -9,10 +9,15 @@
 //                    (timer ticks / 62500 from the first packet): a lockstep bench must name
 //                    that scenario time;
 //   --open-after SEC it opens its ports (and --gps PATH, which it never reads) only SEC after
-//                    it started: a bench must warn that it had not opened them in time.
+//                    it started: a bench must warn that it had not opened them in time;
+//   --stubborn FILE  it ignores SIGTERM, SIGHUP and SIGINT, starts a child (in its process
+//                    group) that ignores them too and sleeps, and writes "PID CHILD_PID" to
+//                    FILE: the group must still end with the bench, however the bench ends.
 //
 //   lying_dut --ahrs PATH --output PATH [--gps PATH] [--lie] [--crash-at SEC] [--open-after SEC]
+//             [--stubborn FILE]
 #include <fcntl.h>
+#include <signal.h>
 #include <unistd.h>
 
 #include <cstdio>
@@ -29,7 +34,7 @@
 namespace gx3 = nav::protocols::gx3;
 
 int main(int argc, char** argv) {
-  std::string ahrs_path, output_path, gps_path;
+  std::string ahrs_path, output_path, gps_path, stubborn_file;
   bool lie = false;
   double crash_at = -1.0, open_after = 0.0;
   for (int i = 1; i < argc; ++i) {
@@ -46,12 +51,27 @@ int main(int argc, char** argv) {
       gps_path = argv[++i];
     } else if (i + 1 < argc && k == "--open-after") {
       open_after = std::atof(argv[++i]);
+    } else if (i + 1 < argc && k == "--stubborn") {
+      stubborn_file = argv[++i];
     }
   }
   if (ahrs_path.empty() || output_path.empty()) {
     std::fprintf(stderr, "usage: lying_dut --ahrs PATH --output PATH [--gps PATH] [--lie] "
-                         "[--crash-at SEC] [--open-after SEC]\n");
+                         "[--crash-at SEC] [--open-after SEC] [--stubborn FILE]\n");
     return 2;
+  }
+  if (!stubborn_file.empty()) {
+    for (int sig : {SIGTERM, SIGHUP, SIGINT}) ::signal(sig, SIG_IGN);
+    const pid_t child = ::fork();  // inherits the ignored signals
+    if (child == 0) {
+      for (;;) ::pause();
+    }
+    const std::string part = stubborn_file + ".part";  // whole or absent for a reader
+    if (std::FILE* f = std::fopen(part.c_str(), "w")) {
+      std::fprintf(f, "%d %d\n", static_cast<int>(::getpid()), static_cast<int>(child));
+      std::fclose(f);
+      std::rename(part.c_str(), stubborn_file.c_str());
+    }
   }
   if (open_after > 0) {
     const timespec ts{static_cast<time_t>(open_after),

@@ -71,6 +71,7 @@ struct Child {
   pid_t pid = -1;
   std::size_t run = 0;  ///< index into the runs
   Clock::time_point start;
+  GroupGuard guard;     ///< ends the run should the campaign die without stopping it
 };
 
 /// Starts `navbench run ...` (this very binary) with stdout and stderr to log, in its own
@@ -279,7 +280,14 @@ int run_campaign(const CampaignOptions& o) {
                                           std::to_string(r.seed), "--mode", mode_name(o.mode),
                                           "-o", (out / r.run_folder).string(), "-q"};
       r.started = true;
-      const auto pid = spawn_run(argv, log);
+      auto pid = spawn_run(argv, log);
+      Result<GroupGuard> guard = GroupGuard();
+      if (pid) guard = GroupGuard::watch(*pid, kTerminateGrace);
+      if (pid && !guard) {
+        ::kill(-*pid, SIGKILL);
+        ::waitpid(*pid, nullptr, 0);
+        pid = tl::unexpected(guard.error());
+      }
       if (!pid) {
         r.finished = true;
         r.exit_code = kExitBench;
@@ -289,7 +297,7 @@ int run_campaign(const CampaignOptions& o) {
           std::fprintf(stderr, "%s\n", progress_line(ended, runs.size(), r, false, log).c_str());
         }
       } else {
-        running.push_back({*pid, next, Clock::now()});
+        running.push_back({*pid, next, Clock::now(), std::move(*guard)});
       }
       ++next;
     }

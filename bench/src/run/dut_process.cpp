@@ -86,14 +86,29 @@ Result<DutProcess> DutProcess::start(const std::vector<std::string>& argv,
 
   const auto pid = spawn_logged(*program, argv, log_path, LogMode::kAppend);
   if (!pid) return tl::unexpected(pid.error());
-  return DutProcess(*pid);
+  auto guard = GroupGuard::watch(*pid, std::chrono::milliseconds(500));
+  if (!guard) {
+    ::kill(-*pid, SIGKILL);
+    ::waitpid(*pid, nullptr, 0);
+    return tl::unexpected(guard.error());
+  }
+  return DutProcess(*pid, std::move(*guard));
 }
 
 DutProcess::DutProcess(DutProcess&& o) noexcept
-    : pid_(std::exchange(o.pid_, -1)), exit_(std::move(o.exit_)) {}
+    : pid_(std::exchange(o.pid_, -1)), exit_(std::move(o.exit_)), guard_(std::move(o.guard_)) {}
 
 DutProcess::~DutProcess() {
-  if (pid_ > 0 && exit_.empty()) stop(0.5);
+  if (pid_ <= 0) return;
+  if (exit_.empty()) stop(0.5);
+  end_group();
+}
+
+void DutProcess::end_group() {
+  // The child is reaped; processes it started in its group may live on (a DUT script whose
+  // estimator ignores SIGTERM). While any does, the group id cannot go to another process.
+  if (::kill(-pid_, 0) == 0) ::kill(-pid_, SIGKILL);
+  guard_.release();
 }
 
 void DutProcess::record_status(int status) {
@@ -118,16 +133,23 @@ bool DutProcess::running() {
 }
 
 void DutProcess::stop(double grace_s) {
-  if (!running()) return;
-  ::kill(pid_, SIGTERM);
+  if (!running()) {
+    if (pid_ > 0) end_group();
+    return;
+  }
+  ::kill(-pid_, SIGTERM);
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(grace_s);
   while (std::chrono::steady_clock::now() < deadline) {
-    if (!running()) return;
+    if (!running()) {
+      end_group();
+      return;
+    }
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
-  ::kill(pid_, SIGKILL);
+  ::kill(-pid_, SIGKILL);
   int status = 0;
   if (::waitpid(pid_, &status, 0) == pid_) record_status(status);
+  end_group();
 }
 
 }  // namespace nav::bench

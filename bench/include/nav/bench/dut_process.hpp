@@ -1,14 +1,17 @@
 // SPDX-License-Identifier: MIT
 // The DUT as a child process: started from an argv (no shell), stdout and stderr to a log
-// file, watched without blocking, stopped with SIGTERM then SIGKILL.
+// file, in its own process group that ends with the bench however the bench ends
+// (GroupGuard), watched without blocking, stopped with SIGTERM then SIGKILL.
 #pragma once
 
 #include <sys/types.h>
 
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
+#include "nav/bench/group_guard.hpp"
 #include "nav/common/result.hpp"
 
 namespace nav::bench {
@@ -41,17 +44,22 @@ class DutProcess {
   /// How it ended, e.g. "exited with status 1" or "killed by signal 11 (Segmentation fault)";
   /// empty while running.
   const std::string& exit_description() const { return exit_; }
-  /// SIGTERM, then SIGKILL after grace; returns once the child is reaped.
+  /// SIGTERM to its process group, then SIGKILL after grace; returns once the child is
+  /// reaped and no process of its group is left.
   void stop(double grace_s = 2.0);
 
   /// Resolves a program name the way start() does; nullopt when not found.
   static std::optional<std::string> resolve(const std::string& program);
 
  private:
-  explicit DutProcess(pid_t pid) : pid_(pid) {}
+  DutProcess(pid_t pid, GroupGuard guard) : pid_(pid), guard_(std::move(guard)) {}
   void record_status(int status);
+  /// SIGKILL to what is left of its group once the child itself ended, then the guard's
+  /// release.
+  void end_group();
   pid_t pid_ = -1;
   std::string exit_;
+  GroupGuard guard_;
 };
 
 }  // namespace nav::bench
