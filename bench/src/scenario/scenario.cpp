@@ -312,7 +312,8 @@ Scenario read_scenario(const Field& root, const std::string& file) {
   if (auto v = top.optional("labels")) read_labels(*v, s);
   s.seed =
       top.required("seed").integer<std::uint64_t>(0, std::numeric_limits<std::uint64_t>::max());
-  s.duration = top.required("duration").duration(Bound::kPositive);
+  const Field duration = top.required("duration");
+  s.duration = duration.duration(Bound::kPositive);
   if (auto v = top.optional("mode")) {
     s.mode =
         v->choice<TimeMode>({{"realtime", TimeMode::kRealtime}, {"lockstep", TimeMode::kLockstep}});
@@ -325,6 +326,7 @@ Scenario read_scenario(const Field& root, const std::string& file) {
   if (auto v = top.optional("checks")) read_checks(*v, s);
   if (auto v = top.optional("peers")) read_peers(*v, s);
   if (auto v = top.optional("acoustic")) read_acoustic(*v, s);
+  check_size(duration, s);
   return s;
 }
 

@@ -274,6 +274,7 @@ DeviceSpec read_device(const Field& item, const Scenario& s) {
   if (auto v = m.optional("rate")) rate_hz = v->rate();
   if (auto v = m.optional("latency")) latency = v->duration(Bound::kNonNegative);
   const std::size_t bytes = kind.read(DeviceReadContext{m, *type_field, s, rate_hz, latency}, d);
+  d.rate_hz = rate_hz;
 
   // Does the stream fit on the line?
   const double bits_per_s = static_cast<double>(bytes) * rate_hz * kBitsPerByte;

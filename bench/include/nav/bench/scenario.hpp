@@ -33,6 +33,9 @@ struct DeviceSpec {
   std::string type;     ///< the scenario `type`, naming its kind ("microstrain-gx3-25", ...)
   std::string port = "pty";  ///< "pty" or a device path such as /dev/ttyUSB0
   int baud = 115200;         ///< line rate [bit/s]; 8N1 = 10 bits per byte
+  /// Its `rate` (or its kind's default) [Hz]; 0 for a device that sends only when asked (the
+  /// Keller) or when the channel delivers (a modem). For the scenario's size bound.
+  double rate_hz = 0.0;
   /// Where it sits on its vehicle (`mount`): it measures in its own axes at its own place
   /// (emulators::MountedTruth). Identity by default: the vehicle's reference point and axes.
   emulators::Mount mount;
