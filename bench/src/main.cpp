@@ -121,6 +121,12 @@ int main(int argc, char** argv) {
       "reports give the seed used")
       ->transform(kUnsignedInteger);
   cmd->add_flag("-q,--quiet", run.quiet, "No progress lines on long runs");
+  std::uint64_t log_limit_mib = kDefaultLogLimit >> 20;
+  cmd->add_option("--log-limit", log_limit_mib,
+                  "Most MiB of each log a DUT fills (capture-rx.log, dut.log; default " +
+                      std::to_string(kDefaultLogLimit >> 20) +
+                      ", 0: no limit); what is past it is counted, not kept")
+      ->check(CLI::Range(std::uint64_t{0}, std::uint64_t{1} << 30));
 
   CampaignOptions campaign;
   std::string campaign_mode = "lockstep";
@@ -298,6 +304,7 @@ int main(int argc, char** argv) {
     return run_campaign(campaign);
   }
   if (seed_opt->count() > 0) run.seed = seed;
+  run.log_limit = log_limit_mib << 20;
   if (!mode.empty()) run.mode = mode == "lockstep" ? TimeMode::kLockstep : TimeMode::kRealtime;
   return run_scenario(run);
 }

@@ -42,8 +42,24 @@ std::string timing(const RunFolder& f) {
   h += "</table><p class=\"note\">DUT: " + num(get_number(dut, "answers"), 10) + " solutions for " +
        num(get_number(dut, "triggers_sent"), 10) + " triggers, " +
        num(get_number(dut, "unmatched_answers"), 10) + " naming no trigger, " +
-       num(get_number(dut, "malformed_output"), 10) + " malformed lines.</p></section>\n";
-  return h;
+       num(get_number(dut, "malformed_output"), 10) + " malformed lines.</p>\n";
+  const auto& examples = get_array(dut, "malformed_examples");
+  if (!examples.empty()) {
+    h += "<table>\n" + header_row({"malformed at [s]", "why", "what the DUT wrote"});
+    for (const auto& m : examples) {
+      h += row({fixed(get_number(m, "rx_s")), html_escape(get_string(m, "why", "")),
+                "<code>" + html_escape(get_string(m, "text", "")) + "</code>"},
+               "n");
+    }
+    h += "</table>\n";
+  }
+  for (const auto& c : get_array(s, "logs_cut")) {
+    h += "<p class=\"note\">" + html_escape(get_string(c, "file", "?")) +
+         " was cut at its limit of " + num(get_number(c, "limit_bytes"), 10) + " bytes: " +
+         num(get_number(c, "cut_bytes"), 10) +
+         " more bytes the DUT wrote were not kept (<code>navbench run --log-limit</code>).</p>\n";
+  }
+  return h + "</section>\n";
 }
 
 std::string error_cell(const json& v, const char* key, const char* field) {

@@ -128,7 +128,16 @@ void write_summary(const RunRecord& r, const std::string& dir) {
               {"triggers_sent", r.triggers_sent},
               {"answers", r.answers},
               {"unmatched_answers", r.unmatched_answers},
-              {"malformed_output", r.malformed_output}};
+              {"malformed_output", r.malformed_output},
+              {"malformed_examples", json::array()}};
+  for (const auto& m : r.malformed_examples) {
+    j["dut"]["malformed_examples"].push_back({{"rx_s", m.rx_s}, {"text", m.text}, {"why", m.why}});
+  }
+  j["logs_cut"] = json::array();
+  for (const auto& c : r.logs_cut) {
+    j["logs_cut"].push_back(
+        {{"file", c.file}, {"limit_bytes", c.limit_bytes}, {"cut_bytes", c.cut_bytes}});
+  }
   j["checks"] = json::array();
   for (const auto& c : r.checks) j["checks"].push_back(check_json(c));
   j["bench_lateness"] = stats_json(r.bench_lateness);

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 // The one-screen verdict printed at the end of a run.
+#include <cstdint>
 #include <cstdio>
 #include <sstream>
 
@@ -15,6 +16,25 @@ std::string fault_text(const FaultRow& f) {
   return line;
 }
 
+namespace {
+
+/// "256 MiB", "1.5 GiB", "512 bytes".
+std::string byte_size(std::uint64_t n) {
+  char buf[32];
+  if (n < 1024) {
+    std::snprintf(buf, sizeof buf, "%llu bytes", static_cast<unsigned long long>(n));
+  } else if (n < (1ull << 20)) {
+    std::snprintf(buf, sizeof buf, "%.3g KiB", static_cast<double>(n) / 1024.0);
+  } else if (n < (1ull << 30)) {
+    std::snprintf(buf, sizeof buf, "%.3g MiB", static_cast<double>(n) / (1 << 20));
+  } else {
+    std::snprintf(buf, sizeof buf, "%.3g GiB", static_cast<double>(n) / (1 << 30));
+  }
+  return buf;
+}
+
+}  // namespace
+
 std::string verdict_text(const RunRecord& r) {
   std::ostringstream o;
   char line[256];
@@ -27,6 +47,15 @@ std::string verdict_text(const RunRecord& r) {
   if (r.unmatched_answers) o << ", " << r.unmatched_answers << " naming no trigger";
   if (r.malformed_output) o << ", " << r.malformed_output << " malformed lines";
   o << '\n';
+  for (const auto& m : r.malformed_examples) {
+    std::snprintf(line, sizeof line, "    malformed at t=%.3f s: ", m.rx_s);
+    o << line << m.why << ": \"" << m.text << "\"\n";
+  }
+  for (const auto& c : r.logs_cut) {
+    o << "  note: " << c.file << " was cut at its limit of " << byte_size(c.limit_bytes) << ": "
+      << byte_size(c.cut_bytes) << " more the DUT wrote were not kept (navbench run "
+      << "--log-limit)\n";
+  }
   for (const auto& p : r.peers) {
     o << "  peer " << p.name << ": DUT " << p.dut_status << "; " << p.answers
       << " solutions for " << p.triggers_sent << " triggers\n";

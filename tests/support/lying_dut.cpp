@@ -12,10 +12,14 @@
 //                    it started: a bench must warn that it had not opened them in time;
 //   --stubborn FILE  it ignores SIGTERM, SIGHUP and SIGINT, starts a child (in its process
 //                    group) that ignores them too and sleeps, and writes "PID CHILD_PID" to
-//                    FILE: the group must still end with the bench, however the bench ends.
+//                    FILE: the group must still end with the bench, however the bench ends;
+//   --flood          it writes random bytes (/dev/urandom) to its output and its stderr as
+//                    fast as they go, and answers nothing: the bench must cut its logs;
+//   --garble         every other solution has a wrong checksum: the bench must say which
+//                    lines were malformed, and why.
 //
 //   lying_dut --ahrs PATH --output PATH [--gps PATH] [--lie] [--crash-at SEC] [--open-after SEC]
-//             [--stubborn FILE]
+//             [--stubborn FILE] [--flood] [--garble]
 #include <fcntl.h>
 #include <signal.h>
 #include <unistd.h>
@@ -35,12 +39,16 @@ namespace gx3 = nav::protocols::gx3;
 
 int main(int argc, char** argv) {
   std::string ahrs_path, output_path, gps_path, stubborn_file;
-  bool lie = false;
+  bool lie = false, flood = false, garble = false;
   double crash_at = -1.0, open_after = 0.0;
   for (int i = 1; i < argc; ++i) {
     const std::string k = argv[i];
     if (k == "--lie") {
       lie = true;
+    } else if (k == "--flood") {
+      flood = true;
+    } else if (k == "--garble") {
+      garble = true;
     } else if (i + 1 < argc && k == "--ahrs") {
       ahrs_path = argv[++i];
     } else if (i + 1 < argc && k == "--output") {
@@ -57,7 +65,8 @@ int main(int argc, char** argv) {
   }
   if (ahrs_path.empty() || output_path.empty()) {
     std::fprintf(stderr, "usage: lying_dut --ahrs PATH --output PATH [--gps PATH] [--lie] "
-                         "[--crash-at SEC] [--open-after SEC] [--stubborn FILE]\n");
+                         "[--crash-at SEC] [--open-after SEC] [--stubborn FILE] [--flood] "
+                         "[--garble]\n");
     return 2;
   }
   if (!stubborn_file.empty()) {
@@ -86,6 +95,16 @@ int main(int argc, char** argv) {
     std::perror("lying_dut: open");
     return 1;
   }
+  if (flood) {
+    const int random = ::open("/dev/urandom", O_RDONLY);
+    std::uint8_t noise[65536];
+    for (;;) {
+      const ssize_t got = ::read(random, noise, sizeof noise);
+      if (got <= 0) return 1;
+      if (::write(out, noise, static_cast<std::size_t>(got)) < 0) return 0;
+      if (::write(STDERR_FILENO, noise, static_cast<std::size_t>(got)) < 0) return 0;
+    }
+  }
   nav::protocols::navd::Solution s;
   s.input = "AHRS";
   std::optional<std::uint32_t> first;
@@ -107,7 +126,11 @@ int main(int argc, char** argv) {
         return 3;
       }
       s.trigger_tag = lie ? 4000000000ULL : ticks;
-      const std::string line = nav::protocols::navd::encode(s);
+      std::string line = nav::protocols::navd::encode(s);
+      if (garble && s.seq % 2 == 1) {  // "*HH\r\n": the checksum's last digit changed
+        char& digit = line[line.size() - 3];
+        digit = digit == '0' ? '1' : '0';
+      }
       if (::write(out, line.data(), line.size()) < 0) return 0;
       ++s.seq;
     }

@@ -15,7 +15,9 @@
 #include <functional>
 #include <iterator>
 #include <memory>
+#include <stdexcept>
 
+#include "nav/bench/capture_file.hpp"
 #include "nav/bench/dut_process.hpp"
 #include "nav/bench/output_reader.hpp"
 #include "nav/bench/realtime.hpp"
@@ -342,13 +344,14 @@ int replay_capture(const ReplayOptions& o) {
   EventLoop loop;  // the DUT's output read, the startup and drain waits
   std::unique_ptr<DutProcess> dut;
   std::unique_ptr<OutputReader> reader;
-  std::unique_ptr<std::FILE, int (*)(std::FILE*)> rx(nullptr, &std::fclose);
+  std::unique_ptr<CaptureFile> rx;
   const Duration startup = from_seconds(std::max(0.0, o.startup_s));
   const Timestamp start = monotonic_now() + startup;
   std::vector<std::string> argv;
   if (with_dut) {
-    rx.reset(std::fopen(o.out_capture.c_str(), "w"));
-    if (!rx) {
+    try {
+      rx = std::make_unique<CaptureFile>(o.out_capture, kDefaultLogLimit);
+    } catch (const std::runtime_error&) {
       std::fprintf(stderr, "navbench: cannot write %s: %s\n", o.out_capture.c_str(),
                    std::strerror(errno));
       return kExitBench;
@@ -429,7 +432,7 @@ int replay_capture(const ReplayOptions& o) {
     reader->stop();
     solutions = reader->answer_count();
     malformed = reader->malformed();
-    std::fflush(rx.get());
+    rx->flush();
   }
 
   // --- summary -----------------------------------------------------------------------------

@@ -65,8 +65,9 @@ void DutWatch::arm_watchdog() {
     if (ec || watchdog_->stopped) return;
     {
       const std::lock_guard<std::mutex> lock(mutex_);
-      if (!look(monotonic_now())) return;  // the verdict is in: no more looks
+      if (!failed_) look(monotonic_now());  // once the verdict is in, no more looks
     }
+    for (auto& veh : vehicles_) veh.log_limit->enforce();  // until the DUTs stop
     arm_watchdog();
   });
 }
@@ -92,7 +93,7 @@ std::vector<std::string> DutWatch::argv_of(std::uint32_t v,
 }
 
 void DutWatch::start(const std::vector<BenchLine>& lines, const std::filesystem::path& dir,
-                     Timestamp t0, RunLog& log) {
+                     Timestamp t0, RunLog& log, std::uint64_t log_limit) {
   t0_ = t0;
   sent_ = std::make_unique<std::atomic<std::size_t>[]>(vehicles_.size());
   for (std::uint32_t v = 0; v < vehicles_.size(); ++v) {
@@ -107,7 +108,11 @@ void DutWatch::start(const std::vector<BenchLine>& lines, const std::filesystem:
                                       : "peer '" + veh.name + "': " + dut.error().detail);
     }
     veh.proc = std::make_unique<DutProcess>(std::move(*dut));
-    if (v > 0) veh.output_capture = open_file(dir / ("capture-rx-" + veh.name + ".log"));
+    veh.log_limit = std::make_unique<DutLogLimit>((dir / log_name).string(), log_limit);
+    if (v > 0) {
+      veh.output_capture =
+          std::make_unique<CaptureFile>(dir / ("capture-rx-" + veh.name + ".log"), log_limit);
+    }
     veh.reader = std::make_unique<OutputReader>(
         lines[veh.output_line].fd(), v == 0 ? log.rx.get() : veh.output_capture.get(), t0,
         &loop_);
@@ -262,6 +267,7 @@ void DutWatch::finish(const std::vector<std::size_t>& suppressed) {
   }
   for (auto& veh : vehicles_) veh.proc->stop();
   for (auto& veh : vehicles_) veh.reader->stop();
+  for (auto& veh : vehicles_) veh.log_limit->finish();
 }
 
 std::string DutWatch::primary_status() const {

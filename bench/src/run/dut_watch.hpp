@@ -30,6 +30,7 @@
 #include "nav/bench/scenario.hpp"
 #include "run/device_streams.hpp"
 #include "run/event_loop.hpp"
+#include "run/dut_log_limit.hpp"
 #include "run/run_log.hpp"
 #include "run/wakeup.hpp"
 
@@ -45,7 +46,8 @@ struct Vehicle {
   std::vector<std::string> argv;     ///< as started
   std::unique_ptr<DutProcess> proc;
   std::unique_ptr<OutputReader> reader;
-  FilePtr output_capture;            ///< peers: capture-rx-<name>.log
+  std::unique_ptr<CaptureFile> output_capture;  ///< peers: capture-rx-<name>.log
+  std::unique_ptr<DutLogLimit> log_limit;        ///< on its dut.log (dut-<name>.log)
   std::vector<TriggerRecord> triggers;  ///< every trigger of the schedule, in order
   std::size_t triggers_sent = 0;
   /// Of the triggers sent, in send order: one slot per trigger, set by the player, the first
@@ -76,9 +78,10 @@ class DutWatch {
   /// Starts every vehicle's DUT with its {port:NAME} replaced by the lines' paths, its
   /// stdout and stderr to dir/dut.log (a peer's: dut-<name>.log), and a reader of its output
   /// line capturing to the primary's capture-rx.log (a peer's: capture-rx-<name>.log), times
-  /// from t0. Throws (naming a peer) when a DUT cannot be started.
+  /// from t0. Each DUT log and peer capture holds at most log_limit bytes (0: no limit).
+  /// Throws (naming a peer) when a DUT cannot be started.
   void start(const std::vector<BenchLine>& lines, const std::filesystem::path& dir, Timestamp t0,
-             RunLog& log);
+             RunLog& log, std::uint64_t log_limit);
 
   /// At scenario time 0: on the loop (the caller goes on), a warning on stderr for each pty
   /// a DUT was given but has not opened yet. What the bench writes to it before the DUT

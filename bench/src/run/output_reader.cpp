@@ -16,6 +16,7 @@
 
 #include "nav/bench/capture.hpp"
 #include "nav/protocols/nmea0183.hpp"
+#include "nav/reports/text.hpp"
 #include "run/event_loop.hpp"
 
 namespace nav::bench {
@@ -43,7 +44,7 @@ struct OutputReader::Io {
   std::promise<void> stopped;
 };
 
-OutputReader::OutputReader(int fd, std::FILE* capture, Timestamp t0, EventLoop* loop)
+OutputReader::OutputReader(int fd, CaptureFile* capture, Timestamp t0, EventLoop* loop)
     : fd_(fd), capture_(capture), t0_(t0) {
   if (!loop) {
     own_loop_ = std::make_unique<EventLoop>();
@@ -94,7 +95,7 @@ void OutputReader::finish() {
     if (n <= 0) break;  // EAGAIN: drained; EIO: no writer at the moment
     on_read(io_->chunk.data(), static_cast<std::size_t>(n), monotonic_now());
   }
-  std::fflush(capture_);
+  capture_->flush();
   (void)io_->descriptor.release();
   io_->stopped.set_value();
 }
@@ -116,7 +117,7 @@ void OutputReader::set_on_answer(std::function<void()> f) {
 }
 
 void OutputReader::on_read(const std::uint8_t* data, std::size_t n, Timestamp rx) {
-  write_capture_line(capture_, rx - t0_, "output", std::span(data, n));
+  capture_->write(rx - t0_, "output", std::span(data, n));
   bool answered = false;
   {
     std::lock_guard lock(mutex_);
@@ -125,7 +126,7 @@ void OutputReader::on_read(const std::uint8_t* data, std::size_t n, Timestamp rx
     consume(rx);
     answered = answers_.size() > before;
   }
-  std::fflush(capture_);
+  capture_->flush();
   cv_.notify_all();
   if (answered && io_->on_answer) io_->on_answer();
 }
@@ -137,22 +138,41 @@ void OutputReader::consume(Timestamp rx) {
         protocols::ByteSpan(buffer_.data() + used, buffer_.size() - used),
         protocols::navd::kMaxSentence);
     if (res.status == protocols::ParseStatus::kNeedMore) break;
+    const protocols::ByteSpan piece(buffer_.data() + used, res.consumed);
     used += res.consumed;
     if (res.status == protocols::ParseStatus::kMalformed) {
-      ++malformed_;
+      note_malformed(piece, res.error, rx);
       continue;
     }
     const auto& s = *res.message;
     if (s.talker + s.type != protocols::navd::kAddress) continue;  // other sentences: ignored
     auto sol = protocols::navd::decode(s);
     if (!sol) {
-      ++malformed_;
+      note_malformed(piece, sol.error().detail, rx);
       continue;
     }
     ++answers_by_tag_[sol->trigger_tag];
     answers_.push_back(Answer{rx, std::move(*sol)});
   }
   buffer_.erase(buffer_.begin(), buffer_.begin() + static_cast<std::ptrdiff_t>(used));
+}
+
+void OutputReader::note_malformed(protocols::ByteSpan bytes, const std::string& why,
+                                  Timestamp rx) {
+  ++malformed_;
+  if (malformed_examples_.size() >= reports::kMalformedExamples) return;
+  const std::string_view all(reinterpret_cast<const char*>(bytes.data()), bytes.size());
+  std::string text;
+  if (all.size() <= reports::kMalformedTextBytes) {
+    text = reports::escaped_bytes(all);
+  } else {  // its head and its tail (where a checksum is)
+    const std::size_t tail = reports::kMalformedTextBytes / 3;
+    const std::size_t head = reports::kMalformedTextBytes - tail;
+    text = reports::escaped_bytes(all.substr(0, head)) + "..." +
+           reports::escaped_bytes(all.substr(all.size() - tail)) + " (" +
+           std::to_string(all.size()) + " bytes)";
+  }
+  malformed_examples_.push_back({to_seconds(rx - t0_), std::move(text), why});
 }
 
 bool OutputReader::wait_for(std::uint64_t tag, Timestamp deadline, std::size_t count) {
@@ -185,6 +205,11 @@ std::vector<Answer> OutputReader::answers() const {
 std::size_t OutputReader::malformed() const {
   std::lock_guard lock(mutex_);
   return malformed_;
+}
+
+std::vector<reports::MalformedOutput> OutputReader::malformed_examples() const {
+  std::lock_guard lock(mutex_);
+  return malformed_examples_;
 }
 
 }  // namespace nav::bench

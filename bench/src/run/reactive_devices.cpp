@@ -94,11 +94,11 @@ void ReactiveDevices::on_host_bytes(std::uint32_t d, std::span<const std::uint8_
     // lines); a write before scenario time 0 counts as at 0.
     const Duration t = std::max({scenario_t, Duration{0}, channel_time_});
     channel_time_ = t;
-    write_capture_line(log_.rx.get(), t, name, got);
+    log_.rx->write(t, name, got);
     channel_->on_bytes(static_cast<std::size_t>(modem_node_[d]), got, t);
     return;
   }
-  write_capture_line(log_.rx.get(), scenario_t, name, got);
+  log_.rx->write(scenario_t, name, got);
   if (polled_[d]) {
     // A request before scenario time 0 (during the DUT's startup) is answered as at 0.
     const Duration t = std::max(scenario_t, Duration{0});

@@ -10,6 +10,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "nav/bench/capture_file.hpp"
 #include "nav/reports/run_record.hpp"
 #include "run/device_tally.hpp"
 
@@ -31,7 +32,8 @@ inline FilePtr open_file(const std::filesystem::path& p) {
 
 struct RunLog {
   FilePtr tx;   ///< capture-tx.log: every byte the bench wrote to a serial line
-  FilePtr rx;   ///< capture-rx.log: what the primary's DUT wrote (output, requests, commands)
+  /// capture-rx.log: what the primary's DUT wrote (output, requests, commands), limited.
+  std::unique_ptr<CaptureFile> rx;
   FilePtr can;  ///< capture-can.log (a bus only)
   DeviceTally tally;                          ///< per device, in all and per second
   std::vector<reports::LatenessRow> lateness; ///< realtime: every serial message's lateness

@@ -2,6 +2,7 @@
 #include "run/run_record.hpp"
 
 #include <algorithm>
+#include <filesystem>
 #include <optional>
 
 #include "nav/bench/judge.hpp"
@@ -66,6 +67,24 @@ void add_faults(const RunFacts& f, reports::RunRecord& rec) {
   }
 }
 
+/// Every log a DUT filled past the limit: the receive captures and the DUT logs.
+void add_logs_cut(const RunFacts& f, reports::RunRecord& rec) {
+  const auto note = [&](const std::filesystem::path& file, std::uint64_t limit,
+                        std::uint64_t cut) {
+    if (cut > 0) rec.logs_cut.push_back({file.filename().string(), limit, cut});
+  };
+  note(f.log.rx->path(), f.log.rx->limit(), f.log.rx->cut_bytes());
+  for (const auto& veh : f.watch.vehicles()) {
+    if (veh.output_capture) {
+      note(veh.output_capture->path(), veh.output_capture->limit(),
+           veh.output_capture->cut_bytes());
+    }
+    if (veh.log_limit) {
+      note(veh.log_limit->path(), veh.log_limit->limit(), veh.log_limit->cut_bytes());
+    }
+  }
+}
+
 }  // namespace
 
 reports::RunRecord make_run_record(const RunFacts& f, const RunIdentity& id) {
@@ -98,6 +117,8 @@ reports::RunRecord make_run_record(const RunFacts& f, const RunIdentity& id) {
   rec.answers = in.answers.size();
   rec.unmatched_answers = j.unmatched_answers;
   rec.malformed_output = primary.reader->malformed();
+  rec.malformed_examples = primary.reader->malformed_examples();
+  add_logs_cut(f, rec);
   rec.checks = std::move(j.checks);
   for (std::size_t v = 0; v < vehicles.size(); ++v) {
     const Vehicle& veh = vehicles[v];

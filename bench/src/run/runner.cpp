@@ -113,7 +113,8 @@ Result<std::vector<BenchLine>> open_lines(const Scenario& sc) {
 reports::RunRecord play_run(const Scenario& sc, const VehicleTruths& truths,
                             std::vector<BenchLine>& lines,
                             std::optional<transport::CanSocket> can_socket, const fs::path& dir,
-                            bool quiet, EventLoop& loop) {
+                            const RunOptions& o, EventLoop& loop) {
+  const bool quiet = o.quiet;
   RunIdentity id;
   id.started_utc = utc_now("%Y-%m-%dT%H:%M:%SZ");
   const Timestamp wall_start = monotonic_now();
@@ -131,7 +132,7 @@ reports::RunRecord play_run(const Scenario& sc, const VehicleTruths& truths,
   RealtimePacer realtime(clock, g_interrupted, kMaxSleep);
   LockstepPacer lockstep;
   log.tx = open_file(dir / "capture-tx.log");
-  log.rx = open_file(dir / "capture-rx.log");
+  log.rx = std::make_unique<CaptureFile>(dir / "capture-rx.log", o.log_limit);
   if (sc.can) log.can = open_file(dir / "capture-can.log");
   fs::copy_file(sc.file, dir / "scenario.yaml");
 
@@ -142,7 +143,7 @@ reports::RunRecord play_run(const Scenario& sc, const VehicleTruths& truths,
   can.set_t0(t0);
   wires.set_t0(t0);
   realtime.set_origin(t0);
-  watch.start(lines, dir, t0, log);
+  watch.start(lines, dir, t0, log, o.log_limit);
   loop.try_realtime_priorities();
   // The DUTs' startup, on the event loop: until t0 (a timer), the watchdog's verdict (a
   // crash), a signal; the step runs again whenever a DUT writes to a device line.
@@ -278,7 +279,7 @@ int run_scenario(const RunOptions& o) {
 
   try {
     reports::RunRecord rec =
-        play_run(*sc, truths, *lines, std::move(can), partial, o.quiet, loop);
+        play_run(*sc, truths, *lines, std::move(can), partial, o, loop);
     rec.run_dir = final_dir.string();
     reports::write_reports(rec, partial.string());
     // The HTML report is made from the files just written, as `navbench report` makes it. A

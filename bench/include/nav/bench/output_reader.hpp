@@ -15,9 +15,11 @@
 #include <unordered_map>
 #include <vector>
 
+#include "nav/bench/capture_file.hpp"
 #include "nav/common/time.hpp"
 #include "nav/protocols/navd_solution.hpp"
 #include "nav/protocols/parse.hpp"
+#include "nav/reports/run_record.hpp"
 
 namespace nav::bench {
 
@@ -35,7 +37,7 @@ class OutputReader {
   /// file for "(<sec>.<nsec>) output <hex>" lines, times relative to t0 (CLOCK_MONOTONIC).
   /// loop: the event loop it reads on (it must outlive the reader); null: an event loop of
   /// its own.
-  OutputReader(int fd, std::FILE* capture, Timestamp t0, EventLoop* loop = nullptr);
+  OutputReader(int fd, CaptureFile* capture, Timestamp t0, EventLoop* loop = nullptr);
   ~OutputReader();
   OutputReader(const OutputReader&) = delete;
   OutputReader& operator=(const OutputReader&) = delete;
@@ -55,6 +57,8 @@ class OutputReader {
   /// All answers so far, in arrival order.
   std::vector<Answer> answers() const;
   std::size_t malformed() const;
+  /// The first reports::kMalformedExamples malformed pieces: when (since t0), what, why.
+  std::vector<reports::MalformedOutput> malformed_examples() const;
 
  private:
   struct Io;
@@ -63,9 +67,11 @@ class OutputReader {
   /// On the loop: the bytes of one read, received at rx.
   void on_read(const std::uint8_t* data, std::size_t n, Timestamp rx);
   void consume(Timestamp rx);
+  /// Counts a malformed piece of output, and keeps it while it is one of the first few.
+  void note_malformed(protocols::ByteSpan bytes, const std::string& why, Timestamp rx);
 
   int fd_;
-  std::FILE* capture_;
+  CaptureFile* capture_;
   Timestamp t0_;
   std::unique_ptr<EventLoop> own_loop_;  ///< when not given one
   std::unique_ptr<Io> io_;               ///< the descriptor and its reads, loop thread only
@@ -75,6 +81,7 @@ class OutputReader {
   std::vector<Answer> answers_;
   std::unordered_map<std::uint64_t, std::size_t> answers_by_tag_;  ///< answers naming each tag
   std::size_t malformed_ = 0;
+  std::vector<reports::MalformedOutput> malformed_examples_;
 };
 
 }  // namespace nav::bench

@@ -16,6 +16,7 @@
 #include <optional>
 #include <string>
 
+#include "nav/bench/capture_file.hpp"
 #include "nav/bench/scenario.hpp"
 
 namespace nav::bench {
@@ -35,6 +36,8 @@ struct RunOptions {
   std::optional<std::uint64_t> seed;  ///< overrides the scenario's seed
   std::string out_dir;           ///< run folder; default runs/<name>-<UTC time>
   bool quiet = false;            ///< no progress lines
+  /// Most bytes of each log a DUT fills (capture-rx*.log, dut*.log); 0: no limit.
+  std::uint64_t log_limit = kDefaultLogLimit;
 };
 
 /// Runs a scenario; prints the verdict; returns the exit code.

@@ -149,6 +149,26 @@ struct VehicleTrack {
   std::string dut_status;
 };
 
+/// A piece of the DUT's output the bench could not read as a sentence (the first few).
+struct MalformedOutput {
+  double rx_s = 0.0;  ///< when it was received, since T0 (as in the receive capture) [s]
+  /// Its bytes, escaped_bytes(); of a longer piece, the first two thirds and the last third
+  /// of kMalformedTextBytes, with "..." between and its length after.
+  std::string text;
+  std::string why;    ///< the parser's reason (checksum, field count, number, length, ...)
+};
+/// Bytes of a malformed piece of output kept in MalformedOutput::text.
+inline constexpr std::size_t kMalformedTextBytes = 48;
+/// Malformed pieces of output a run keeps, the first ones.
+inline constexpr std::size_t kMalformedExamples = 5;
+
+/// A log a DUT filled past navbench's limit (`navbench run --log-limit`).
+struct LogCut {
+  std::string file;              ///< "capture-rx.log", "dut.log", ...
+  std::uint64_t limit_bytes = 0;
+  std::uint64_t cut_bytes = 0;   ///< what the DUT wrote past the limit, not kept [bytes]
+};
+
 /// "gps checksum 10.0–15.0 s, 4 messages": one fault in one line (verdict screen, junit).
 std::string fault_text(const FaultRow& f);
 
@@ -170,6 +190,8 @@ struct RunRecord {
   std::string dut_sha256;           ///< hex SHA-256 of that file; empty if unreadable
   std::string dut_status;           ///< e.g. "alive", "exited with status 1 at t=0.3 s"
   std::size_t triggers_sent = 0, answers = 0, unmatched_answers = 0, malformed_output = 0;
+  std::vector<MalformedOutput> malformed_examples;  ///< the first malformed pieces of output
+  std::vector<LogCut> logs_cut;                     ///< logs the DUTs filled past the limit
   std::vector<CheckResult> checks;
   Stats bench_lateness;             ///< realtime only (count 0 in lockstep)
   double lateness_budget_p99_s = 0.0;
