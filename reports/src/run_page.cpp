@@ -7,6 +7,7 @@
 #include "html_text.hpp"
 #include "json_get.hpp"
 #include "nav/reports/html_report.hpp"
+#include "nav/reports/run_record.hpp"
 #include "run_plots.hpp"
 
 namespace nav::reports {
@@ -67,8 +68,18 @@ std::string banner(const RunFolder& f) {
   }
   if (verdict == "BENCH-LATE") {
     const json& bl = member(s, "bench_lateness");
-    h += "<li>bench lateness p99 " + fixed(get_number(bl, "p99_ms")) + " ms over its budget of " +
-         fixed(get_number(bl, "budget_p99_ms")) + " ms: the bench, not the DUT, was late</li>";
+    const bool median = get_string(bl, "judged", "p99") == "p50";
+    h += "<li>bench lateness " + std::string(median ? "median " : "p99 ") +
+         fixed(get_number(bl, median ? "p50_ms" : "p99_ms")) + " ms over its budget of " +
+         fixed(get_number(bl, "budget_p99_ms")) + " ms" +
+         (median ? " (fewer than " + std::to_string(kMinMessagesForP99) +
+                       " messages: the median judged)"
+                 : std::string()) +
+         ": the bench, not the DUT, was late</li>";
+    ++lines;
+  }
+  for (const auto& n : strings(member(s, "notes"))) {
+    h += "<li>" + html_escape(n) + "</li>";
     ++lines;
   }
   if (verdict == "INTERRUPTED") {

@@ -22,4 +22,10 @@ Stats summarize(std::vector<double> values_s) {
   return s;
 }
 
+bool bench_late(const Stats& lateness, double budget_p99_s) {
+  if (lateness.count == 0) return false;
+  const double judged = lateness.count < kMinMessagesForP99 ? lateness.p50_s : lateness.p99_s;
+  return judged > budget_p99_s;
+}
+
 }  // namespace nav::reports

@@ -142,6 +142,10 @@ void write_summary(const RunRecord& r, const std::string& dir) {
   for (const auto& c : r.checks) j["checks"].push_back(check_json(c));
   j["bench_lateness"] = stats_json(r.bench_lateness);
   j["bench_lateness"]["budget_p99_ms"] = r.lateness_budget_p99_s * 1e3;
+  j["bench_lateness"]["over_budget"] = r.lateness_over_budget;
+  j["bench_lateness"]["judged"] = r.bench_lateness.count < kMinMessagesForP99 ? "p50" : "p99";
+  j["bench_lateness"]["late"] = r.bench_late;
+  j["notes"] = r.notes;
   j["dut_latency"] = stats_json(r.dut_latency);
   j["devices"] = json::array();
   for (const auto& d : r.devices) j["devices"].push_back(device_json(d));

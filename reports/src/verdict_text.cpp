@@ -51,6 +51,7 @@ std::string verdict_text(const RunRecord& r) {
     std::snprintf(line, sizeof line, "    malformed at t=%.3f s: ", m.rx_s);
     o << line << m.why << ": \"" << m.text << "\"\n";
   }
+  for (const auto& n : r.notes) o << "  note: " << n << '\n';
   for (const auto& c : r.logs_cut) {
     o << "  note: " << c.file << " was cut at its limit of " << byte_size(c.limit_bytes) << ": "
       << byte_size(c.cut_bytes) << " more the DUT wrote were not kept (navbench run "
@@ -98,6 +99,15 @@ std::string verdict_text(const RunRecord& r) {
                   ms(r.bench_lateness.p50_s), ms(r.bench_lateness.p99_s),
                   ms(r.bench_lateness.max_s), r.bench_lateness.count,
                   ms(r.lateness_budget_p99_s));
+    o << line;
+    if (r.bench_lateness.count < kMinMessagesForP99) {
+      std::snprintf(line, sizeof line,
+                    "  bench lateness  fewer than %zu messages: the median judged, not the p99 "
+                    "(%zu over the budget)\n",
+                    kMinMessagesForP99, r.lateness_over_budget);
+    } else {
+      line[0] = '\0';
+    }
   } else if (r.mode == "lockstep") {
     std::snprintf(line, sizeof line, "  bench lateness  n/a (lockstep: virtual time)\n");
   } else {

@@ -255,6 +255,7 @@ void DutWatch::finish(const std::vector<std::size_t>& suppressed) {
     const bool commanded = device_kind(devices_[veh.trigger_device].spec).commanded;
     if (alive && veh.triggers_sent == 0 && !veh.triggers.empty() && commanded &&
         suppressed[veh.trigger_device] > 0) {
+      veh.never_commanded = true;
       veh.status += "; no solutions: it never sent the start command (C4 C1 29 CB) on '" +
                     veh.dut->trigger + "', " +
                     std::to_string(suppressed[veh.trigger_device]) + " packets not sent";

@@ -58,6 +58,7 @@ struct Vehicle {
   /// more per copy a `stuck` fault sent).
   std::unordered_map<std::uint64_t, std::size_t> answers_expected;
   bool failed = false;  ///< crashed or hung (watched)
+  bool never_commanded = false;  ///< alive, but it never sent its trigger device's start command
   std::string status;   ///< (watched)
 };
 

@@ -48,9 +48,11 @@ struct RunIdentity {
 reports::RunRecord make_run_record(const RunFacts& f, const RunIdentity& id);
 
 /// The verdict and exit code, in this order of precedence: INTERRUPTED (3), DUT crashed (4),
-/// DUT hung (4), BENCH-LATE (3: bench lateness p99 over its budget), FAIL (1: a judged check
-/// failed), PASS (0).
-std::pair<std::string, int> verdict_of(const reports::RunRecord& r, bool interrupted,
-                                       bool crashed, bool hung);
+/// DUT hung (4), BENCH-LATE (3: r.bench_late), FAIL (1: a judged check failed), PASS (0).
+/// A late bench does not hide a failed check when the DUT failed in a way no timing explains
+/// (dut_fault: it never sent the start command, it wrote malformed output; empty: none):
+/// that is FAIL, and a note says the bench was late as well.
+std::pair<std::string, int> verdict_of(reports::RunRecord& r, bool interrupted, bool crashed,
+                                       bool hung, const std::string& dut_fault);
 
 }  // namespace nav::bench::detail

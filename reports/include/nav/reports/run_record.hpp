@@ -169,6 +169,13 @@ struct LogCut {
   std::uint64_t cut_bytes = 0;   ///< what the DUT wrote past the limit, not kept [bytes]
 };
 
+/// With fewer messages than this a p99 is one machine hiccup: the median is judged instead.
+inline constexpr std::size_t kMinMessagesForP99 = 100;
+
+/// Whether the bench was late: its lateness p99 over the budget or, with fewer than
+/// kMinMessagesForP99 messages, its median. False without messages (lockstep).
+bool bench_late(const Stats& lateness, double budget_p99_s);
+
 /// "gps checksum 10.0–15.0 s, 4 messages": one fault in one line (verdict screen, junit).
 std::string fault_text(const FaultRow& f);
 
@@ -195,6 +202,13 @@ struct RunRecord {
   std::vector<CheckResult> checks;
   Stats bench_lateness;             ///< realtime only (count 0 in lockstep)
   double lateness_budget_p99_s = 0.0;
+  /// Messages later than the budget; and whether the bench was judged late (its p99 over
+  /// the budget, or with fewer than kMinMessagesForP99 messages its median: bench_late()).
+  std::size_t lateness_over_budget = 0;
+  bool bench_late = false;
+  /// What the reader must know beside the verdict, one line each ("the bench was late, but
+  /// ..."); the verdict screen, summary.json `notes` and the report's banner give them.
+  std::vector<std::string> notes;
   Stats dut_latency;                ///< realtime: judged latency; lockstep: compute time
   std::vector<DeviceRow> devices;
   std::vector<FaultRow> faults;     ///< every fault of every device, device then file order
