@@ -297,6 +297,26 @@ TEST(NavbenchReplay, PlaysACaptureToNavdWhichAnswersEveryPacket) {
   EXPECT_EQ(std::stoul(m[1]), solutions) << r.out;
 }
 
+// A DUT that stays alive and silent (it hung, or it does not listen) used to pass (exit 0);
+// one that exits at once is exit 4 as well.
+TEST(NavbenchReplay, ADutThatWritesNoSolutionOrEndsEarlyIsExit4) {
+  const auto dir = fresh_dir("replay-silent");
+  int packets = 0;
+  const auto cap = write_nav_capture(dir, &packets);
+  const auto silent = run_navbench(
+      {"replay", cap.string(), "--startup", "0.2", "--dut", "--", "/bin/sleep", "1000"}, dir);
+  EXPECT_EQ(silent.exit_code, 4) << silent.out << silent.err;
+  EXPECT_NE(silent.err.find("navbench: the DUT wrote no solution during the replay (101 lines "
+                            "played; log: replay-dut.log)"),
+            std::string::npos)
+      << silent.err;
+  EXPECT_LT(silent.wall_s, 30.0);
+  const auto ended = run_navbench(
+      {"replay", cap.string(), "--startup", "0.2", "--dut", "--", "/bin/true"}, dir);
+  EXPECT_EQ(ended.exit_code, 4) << ended.out << ended.err;
+  EXPECT_NE(ended.err.find("before the end of the replay"), std::string::npos) << ended.err;
+}
+
 TEST(NavbenchReplay, MappedPortGetsTheBytesWithScaledTiming) {
   const auto dir = fresh_dir("replay-mapped");
   auto pty = transport::Pty::open();

@@ -4,6 +4,7 @@
 // taken over.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -65,6 +66,21 @@ TEST(NavbenchRunFolder, APartialFolderLeftByARunThatDiedIsTakenOver) {
   EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
   EXPECT_TRUE(fs::exists(dir / "run" / "summary.json"));
   EXPECT_FALSE(fs::exists(dir / "run" / "leftover.txt"));
+}
+
+// A run folder that cannot be made where --out says is the user's to change: exit 2, one
+// line naming it, before anything runs.
+TEST(NavbenchRunFolder, AnOutThatCannotBeCreatedIsAUsageError) {
+  const auto dir = fresh_dir("bad-out");
+  { std::ofstream(dir / "a-file") << "in the way\n"; }
+  for (const std::string out : {"/proc/navbench-run", "a-file/run"}) {
+    const auto r = run_navbench(
+        {"run", source_path("tests/integration/scenarios/open_in_time.yaml"), "--out", out}, dir);
+    EXPECT_EQ(r.exit_code, 2) << out << ": " << r.err;
+    EXPECT_EQ(r.err.rfind("navbench: cannot create ", 0), 0u) << r.err;
+    EXPECT_NE(r.err.find("; choose another --out\n"), std::string::npos) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  }
 }
 
 }  // namespace

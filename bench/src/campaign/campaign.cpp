@@ -241,9 +241,9 @@ int run_campaign(const CampaignOptions& o) {
   }
   if (!out.parent_path().empty()) fs::create_directories(out.parent_path(), ec);
   if (!fs::create_directory(out, ec) || ec || !fs::create_directory(out / "runs", ec)) {
-    std::fprintf(stderr, "navbench: cannot create %s: %s\n", out.c_str(),
+    std::fprintf(stderr, "navbench: cannot create %s: %s; choose another --out\n", out.c_str(),
                  ec ? ec.message().c_str() : "it exists already");
-    return ec ? kExitBench : kExitUsage;
+    return kExitUsage;
   }
 
   // The plan, seed by seed, so that an interrupted campaign has even rows.

@@ -484,6 +484,13 @@ int replay_capture(const ReplayOptions& o) {
                  dut_early.c_str(), o.dut_log.c_str());
     return kExitDut;
   }
+  if (dut && solutions == 0 && played > 0) {  // alive, but silent: hung, or not listening
+    std::fprintf(stderr,
+                 "navbench: the DUT wrote no solution during the replay (%zu lines played; log: "
+                 "%s)\n",
+                 played, o.dut_log.c_str());
+    return kExitDut;
+  }
   for (const auto& p : ports) {
     if (!p.send_error.empty()) return kExitBench;  // a CAN interface failed (e.g. went down)
   }

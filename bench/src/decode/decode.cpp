@@ -3,6 +3,7 @@
 // own file under decode/), decode_stream() and reading one port's bytes from a capture.
 #include "nav/bench/decode.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cstdio>
 
@@ -107,8 +108,22 @@ Result<protocols::Bytes> bytes_from_capture(const std::string& text, const std::
   auto lines = parse_capture(text, file);
   if (!lines) return tl::unexpected(lines.error());
   protocols::Bytes out;
+  std::vector<std::string> ports;  // in order of first appearance
+  bool found = false;
   for (const auto& l : *lines) {
-    if (l.port == port) out.insert(out.end(), l.bytes.begin(), l.bytes.end());
+    if (l.port == port) {
+      found = true;
+      out.insert(out.end(), l.bytes.begin(), l.bytes.end());
+    } else if (std::find(ports.begin(), ports.end(), l.port) == ports.end()) {
+      ports.push_back(l.port);
+    }
+  }
+  if (!found) {
+    std::string list;
+    for (const auto& p : ports) list += (list.empty() ? "" : ", ") + p;
+    return fail(ErrorCode::kNotFound, file + ": no port '" + port + "' in this capture (" +
+                                          (list.empty() ? "it has no lines" : "its ports: " + list) +
+                                          ")");
   }
   return out;
 }

@@ -32,7 +32,12 @@ Result<RunFolderClaim> RunFolderClaim::claim(const fs::path& final_dir) {
   const fs::path parent = final_dir.has_parent_path() ? final_dir.parent_path() : fs::path(".");
   std::error_code ec;
   fs::create_directories(parent, ec);
-  if (ec) return fail(ErrorCode::kIo, "cannot create " + parent.string() + ": " + ec.message());
+  // A folder that cannot be made is the --out given (read-only, /proc, a file in the way):
+  // a usage error, as are the two below.
+  if (ec) {
+    return fail(ErrorCode::kInvalidArgument,
+                "cannot create " + parent.string() + ": " + ec.message() + "; choose another --out");
+  }
   // Every decision below is made under the parent's lock: two runs never both decide.
   Fd parent_fd{open_dir(parent)};
   if (parent_fd.fd < 0 || ::flock(parent_fd.fd, LOCK_EX) != 0) {
@@ -56,7 +61,8 @@ Result<RunFolderClaim> RunFolderClaim::claim(const fs::path& final_dir) {
     if (ec) return fail(ErrorCode::kIo, "cannot remove " + partial.string() + ": " + ec.message());
   }
   if (::mkdir(partial.c_str(), 0755) != 0) {
-    return fail(ErrorCode::kIo, "cannot create " + partial.string() + ": " + std::strerror(errno));
+    return fail(ErrorCode::kInvalidArgument, "cannot create " + partial.string() + ": " +
+                                                 std::strerror(errno) + "; choose another --out");
   }
   const int fd = open_dir(partial);
   if (fd < 0 || ::flock(fd, LOCK_EX | LOCK_NB) != 0) {

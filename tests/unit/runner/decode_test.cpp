@@ -527,5 +527,18 @@ TEST(Decode, BytesOfOnePortFromACapture) {
   EXPECT_EQ(bad.error().detail.rfind("cap.log:1: expected", 0), 0u) << bad.error().detail;
 }
 
+// A port the capture does not have used to decode nothing and exit 0: it is named, with the
+// ports the capture has.
+TEST(Decode, APortTheCaptureDoesNotHaveIsAnErrorListingItsPorts) {
+  const std::string cap = "(0.000100000) ahrs CB00\n(0.001000000) gps 2447\n(0.002000000) ahrs FF\n";
+  const auto none = bytes_from_capture(cap, "nosuch", "cap.log");
+  ASSERT_FALSE(none);
+  EXPECT_EQ(none.error().code, ErrorCode::kNotFound);
+  EXPECT_EQ(none.error().detail, "cap.log: no port 'nosuch' in this capture (its ports: ahrs, gps)");
+  const auto empty = bytes_from_capture("", "ahrs", "cap.log");
+  ASSERT_FALSE(empty);
+  EXPECT_EQ(empty.error().detail, "cap.log: no port 'ahrs' in this capture (it has no lines)");
+}
+
 }  // namespace
 }  // namespace nav::bench

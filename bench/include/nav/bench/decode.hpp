@@ -46,7 +46,8 @@ DecodeCounts decode_stream(const ProtocolDecoder& d, protocols::ByteSpan bytes,
                            const std::function<void(const nlohmann::ordered_json&)>& emit);
 
 /// Bytes of one port from a navbench capture (`(<sec>.<nsec>) <port> <hex>` lines),
-/// concatenated in order; an error names the first bad line as "FILE:LINE: ...".
+/// concatenated in order; an error names the first bad line as "FILE:LINE: ...", or (kNotFound)
+/// a port the capture does not have, listing those it has.
 Result<protocols::Bytes> bytes_from_capture(const std::string& text, const std::string& port,
                                             const std::string& file);
 
