@@ -117,6 +117,7 @@ void write_summary(const RunRecord& r, const std::string& dir) {
   j["seed"] = r.seed;
   j["mode"] = r.mode;
   j["duration_s"] = r.duration_s;
+  j["stopped_at_s"] = r.stopped_at_s ? json(*r.stopped_at_s) : json(nullptr);
   j["started_utc"] = r.started_utc;
   j["wall_time_s"] = r.wall_time_s;
   j["verdict"] = r.verdict;

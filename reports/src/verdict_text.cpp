@@ -42,6 +42,13 @@ std::string verdict_text(const RunRecord& r) {
                 r.scenario_name.c_str(), static_cast<unsigned long long>(r.seed), r.mode.c_str(),
                 r.duration_s, r.wall_time_s);
   o << line;
+  if (r.stopped_at_s) {
+    std::snprintf(line, sizeof line,
+                  "  stopped by a signal at t=%.2f s of %.1f s: checks that need the rest are "
+                  "not judged\n",
+                  *r.stopped_at_s, r.duration_s);
+    o << line;
+  }
   o << "  DUT: " << r.dut_status << "; " << r.answers << " solutions for " << r.triggers_sent
     << " triggers";
   if (r.unmatched_answers) o << ", " << r.unmatched_answers << " naming no trigger";

@@ -3,7 +3,6 @@
 // trigger never sent, a crash at a given scenario time in lockstep, ports opened late, a DUT
 // (and its child) that ignores SIGTERM and SIGHUP.
 #include <signal.h>
-#include <spawn.h>
 #include <sys/wait.h>
 
 #include <chrono>
@@ -79,21 +78,9 @@ bool ended(pid_t pid) {
 /// and its child's pids, ends navbench with `signal`; returns the two pids (empty when the
 /// DUT never started).
 std::vector<pid_t> end_bench_of_stubborn_dut(const fs::path& dir, int signal) {
-  const std::string exe = std::string(NAV_BINARY_DIR) + "/navbench";
-  const std::string scenario = source_path("tests/integration/scenarios/stubborn_dut.yaml");
-  const auto log = dir / "navbench.txt";
-  posix_spawn_file_actions_t fa;
-  posix_spawn_file_actions_init(&fa);
-  posix_spawn_file_actions_addopen(&fa, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  posix_spawn_file_actions_adddup2(&fa, 1, 2);
-  posix_spawn_file_actions_addchdir_np(&fa, dir.c_str());
-  std::vector<std::string> args{exe, "run", scenario, "--out", "run"};
-  std::vector<char*> argv;
-  for (auto& a : args) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  pid_t bench = -1;
-  if (::posix_spawn(&bench, exe.c_str(), &fa, nullptr, argv.data(), environ) != 0) return {};
-  posix_spawn_file_actions_destroy(&fa);
+  const pid_t bench = start_navbench(
+      {"run", source_path("tests/integration/scenarios/stubborn_dut.yaml"), "--out", "run"}, dir);
+  if (bench < 0) return {};
   const auto pid_file = dir / "dut-pids";
   const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(15);
   while (!fs::exists(pid_file) && std::chrono::steady_clock::now() < give_up) {
@@ -122,7 +109,7 @@ bool all_end(const std::vector<pid_t>& pids, std::chrono::seconds within) {
 TEST(NavbenchRun, InterruptedBenchEndsTheDutsWholeProcessGroup) {
   const auto dir = fresh_dir("stubborn-int");
   const auto pids = end_bench_of_stubborn_dut(dir, SIGINT);
-  ASSERT_EQ(pids.size(), 2u) << slurp(dir / "navbench.txt");
+  ASSERT_EQ(pids.size(), 2u) << slurp(dir / "stdout.txt") << slurp(dir / "stderr.txt");
   EXPECT_TRUE(ended(pids[0])) << "the DUT outlived the bench";
   EXPECT_TRUE(ended(pids[1])) << "the DUT's child outlived the bench";
 }
@@ -131,7 +118,7 @@ TEST(NavbenchRun, InterruptedBenchEndsTheDutsWholeProcessGroup) {
 TEST(NavbenchRun, BenchKilledWithSigkillTakesTheDutsProcessGroupWithIt) {
   const auto dir = fresh_dir("stubborn-kill");
   const auto pids = end_bench_of_stubborn_dut(dir, SIGKILL);
-  ASSERT_EQ(pids.size(), 2u) << slurp(dir / "navbench.txt");
+  ASSERT_EQ(pids.size(), 2u) << slurp(dir / "stdout.txt") << slurp(dir / "stderr.txt");
   EXPECT_TRUE(all_end(pids, std::chrono::seconds(10)))
       << "the DUT or its child outlived the bench by 10 s";
 }

@@ -42,9 +42,10 @@ inline std::filesystem::path fresh_dir(const std::string& name) {
   return d;
 }
 
-/// Runs `navbench args...` with stdout/stderr captured; the working directory is `cwd`.
-inline ProcessResult run_navbench(const std::vector<std::string>& args,
-                                  const std::filesystem::path& cwd) {
+/// Starts `navbench args...` in `cwd` with stdout and stderr to cwd/stdout.txt and
+/// cwd/stderr.txt; returns its pid (-1 when it could not be started).
+inline pid_t start_navbench(const std::vector<std::string>& args,
+                            const std::filesystem::path& cwd) {
   const std::string exe = std::string(NAV_BINARY_DIR) + "/navbench";
   const auto out_path = cwd / "stdout.txt";
   const auto err_path = cwd / "stderr.txt";
@@ -56,17 +57,32 @@ inline ProcessResult run_navbench(const std::vector<std::string>& args,
   std::vector<char*> argv{const_cast<char*>(exe.c_str())};
   for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
   argv.push_back(nullptr);
-  const auto t0 = std::chrono::steady_clock::now();
   pid_t pid = -1;
-  ProcessResult r;
-  if (::posix_spawn(&pid, exe.c_str(), &fa, nullptr, argv.data(), environ) != 0) return r;
+  if (::posix_spawn(&pid, exe.c_str(), &fa, nullptr, argv.data(), environ) != 0) pid = -1;
   posix_spawn_file_actions_destroy(&fa);
+  return pid;
+}
+
+/// Waits for a navbench started by start_navbench in cwd; its exit code (128 + signal when a
+/// signal ended it) and what it printed.
+inline ProcessResult finish_navbench(pid_t pid, const std::filesystem::path& cwd) {
+  ProcessResult r;
   int status = 0;
   ::waitpid(pid, &status, 0);
-  r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-  r.out = slurp(out_path);
-  r.err = slurp(err_path);
+  r.out = slurp(cwd / "stdout.txt");
+  r.err = slurp(cwd / "stderr.txt");
+  return r;
+}
+
+/// Runs `navbench args...` with stdout/stderr captured; the working directory is `cwd`.
+inline ProcessResult run_navbench(const std::vector<std::string>& args,
+                                  const std::filesystem::path& cwd) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const pid_t pid = start_navbench(args, cwd);
+  if (pid < 0) return {};
+  ProcessResult r = finish_navbench(pid, cwd);
+  r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return r;
 }
 

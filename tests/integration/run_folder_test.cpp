@@ -1,7 +1,10 @@
 // SPDX-License-Identifier: MIT
 // A run folder belongs to one run: a second run given the same --out while the first writes
 // it is refused at once and touches nothing; a .partial folder left by a run that died is
-// taken over.
+// taken over; an --out that cannot be made is a usage error; an interrupted run leaves a
+// complete folder that says when it stopped.
+#include <signal.h>
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -10,6 +13,8 @@
 #include <fstream>
 #include <future>
 #include <thread>
+
+#include <nlohmann/json.hpp>
 
 #include "navbench_cli.hpp"
 
@@ -81,6 +86,37 @@ TEST(NavbenchRunFolder, AnOutThatCannotBeCreatedIsAUsageError) {
     EXPECT_NE(r.err.find("; choose another --out\n"), std::string::npos) << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
   }
+}
+
+// ^C part-way: a complete folder that says when the run was stopped, and checks that need the
+// rest of the run (an 'after' not reached, the end point) not judged rather than failed.
+TEST(NavbenchRunFolder, AnInterruptedRunSaysWhenItStoppedAndJudgesOnlyWhatItReached) {
+  const auto dir = fresh_dir("interrupted");
+  const pid_t bench = start_navbench(
+      {"run", source_path("scenarios/smoke.yaml"), "--out", "run", "--quiet"}, dir);
+  ASSERT_GT(bench, 0);
+  std::this_thread::sleep_for(std::chrono::milliseconds(2500));  // startup 0.5 s, then ~2 s
+  ::kill(bench, SIGINT);
+  const auto r = finish_navbench(bench, dir);
+  ASSERT_EQ(r.exit_code, 3) << r.out << r.err;
+  const auto s = nlohmann::json::parse(slurp(dir / "run/summary.json"));
+  EXPECT_EQ(s.at("verdict"), "INTERRUPTED");
+  EXPECT_EQ(s.at("duration_s").dump(), "60.0");  // not 60.00000000000001
+  const double stopped = s.at("stopped_at_s").get<double>();
+  EXPECT_GT(stopped, 0.5);
+  EXPECT_LT(stopped, 4.9);  // before the smoke scenario's after: 5 s (a loaded VM: margin)
+  EXPECT_NE(s.at("dut").at("status").get<std::string>().find("alive when the run was stopped at t="),
+            std::string::npos);
+  for (const auto& c : s.at("checks")) {
+    const std::string name = c.at("name");
+    if (name == "horizontal_error" || name == "vertical_error" || name == "endpoint_error") {
+      EXPECT_FALSE(c.at("judged").get<bool>()) << c;
+      EXPECT_EQ(c.at("detail").get<std::string>().rfind("not judged: the run was stopped at t=", 0),
+                0u)
+          << c;
+    }
+  }
+  EXPECT_NE(r.out.find("  stopped by a signal at t="), std::string::npos) << r.out;
 }
 
 }  // namespace

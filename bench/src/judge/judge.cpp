@@ -32,9 +32,19 @@ reports::CheckResult check_result(const CheckSpec& c, double limit, const char* 
 }
 
 /// An error envelope check over aligned samples: value(sample) <= max + per_distance * d.
+/// A check no sample could be judged by because the run was stopped before its `after`.
+bool stopped_before_after(reports::CheckResult& r, std::optional<double> stopped_at_s) {
+  if (!stopped_at_s || *stopped_at_s >= r.after_s) return false;
+  r.judged = false;
+  r.detail = fmt("not judged: the run was stopped at t=%.2f s", *stopped_at_s, 0.0) +
+             fmt(", before its 'after' (%.2f s)", r.after_s, 0.0);
+  return true;
+}
+
 reports::CheckResult envelope_check(const CheckSpec& c, const std::vector<reports::AlignedSample>& a,
                                     double scale, const char* unit,
-                                    double (*value)(const reports::AlignedSample&)) {
+                                    double (*value)(const reports::AlignedSample&),
+                                    std::optional<double> stopped_at_s) {
   reports::CheckResult r = check_result(c, c.max * scale, unit);
   r.per_distance = c.max_per_distance * scale;
   const double after_s = to_seconds(c.after);
@@ -53,7 +63,9 @@ reports::CheckResult envelope_check(const CheckSpec& c, const std::vector<report
     r.value = std::max(r.value, v * scale);
   }
   if (judged == 0) {
-    r.detail = "no solutions with a valid position to judge";
+    if (!stopped_before_after(r, stopped_at_s)) {
+      r.detail = "no solutions with a valid position to judge";
+    }
     return r;
   }
   r.worst_t_s = worst_t;
@@ -202,13 +214,14 @@ JudgeOutput judge(const JudgeInput& in) {
   for (const auto& c : sc.checks) {
     switch (c.kind) {
       case CheckKind::kHorizontalError:
-        out.checks.push_back(envelope_check(c, out.aligned, 1.0, "m", &horizontal));
+        out.checks.push_back(envelope_check(c, out.aligned, 1.0, "m", &horizontal, in.stopped_at_s));
         break;
       case CheckKind::kVerticalError:
-        out.checks.push_back(envelope_check(c, out.aligned, 1.0, "m", &vertical));
+        out.checks.push_back(envelope_check(c, out.aligned, 1.0, "m", &vertical, in.stopped_at_s));
         break;
       case CheckKind::kAttitudeError:
-        out.checks.push_back(envelope_check(c, out.aligned, units::kRadToDeg, "deg", &attitude));
+        out.checks.push_back(envelope_check(c, out.aligned, units::kRadToDeg, "deg", &attitude,
+                                            in.stopped_at_s));
         break;
       case CheckKind::kEndpointError: {
         reports::CheckResult r = check_result(c, c.max, "m");
@@ -220,6 +233,12 @@ JudgeOutput judge(const JudgeInput& in) {
           r.passed = r.value <= c.max;
           r.worst_t_s = last.t_s;
           r.detail = fmt("%.3f m at t=%.2f s", r.value, last.t_s) + fmt(" (limit %.3f m)", c.max, 0);
+        }
+        if (in.stopped_at_s) {  // the end point of a run that did not reach its end
+          r.judged = false;
+          r.passed = false;
+          r.detail = fmt("not judged: the run was stopped at t=%.2f s, before its end", *in.stopped_at_s, 0.0) +
+                     (out.aligned.empty() ? "" : " (last solution: " + r.detail + ")");
         }
         out.checks.push_back(r);
         break;

@@ -249,9 +249,17 @@ Duration DutWatch::max_watchdog() const {
 
 void DutWatch::finish(const std::vector<std::size_t>& suppressed) {
   if (watchdog_) stop_watchdog();
+  if (stop_) stopped_at_ = std::min(scenario_time(monotonic_now()), sc_.duration);
   for (auto& veh : vehicles_) {
     const bool alive = !crashed_ && !hung_ && veh.proc->running();
-    if (alive) veh.status = "alive until the end (pid " + std::to_string(veh.proc->pid()) + ")";
+    if (alive && stopped_at_) {
+      char t[96];
+      std::snprintf(t, sizeof t, "alive when the run was stopped at t=%.2f s (pid %d)",
+                    to_seconds(*stopped_at_), static_cast<int>(veh.proc->pid()));
+      veh.status = t;
+    } else if (alive) {
+      veh.status = "alive until the end (pid " + std::to_string(veh.proc->pid()) + ")";
+    }
     const bool commanded = device_kind(devices_[veh.trigger_device].spec).commanded;
     if (alive && veh.triggers_sent == 0 && !veh.triggers.empty() && commanded &&
         suppressed[veh.trigger_device] > 0) {

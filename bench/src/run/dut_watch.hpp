@@ -18,6 +18,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <mutex>
 #include <string>
 #include <unordered_map>
@@ -110,6 +111,8 @@ class DutWatch {
   /// Stops the watchdog, sets the final status of the DUTs still alive, then stops every
   /// DUT and reader.
   void finish(const std::vector<std::size_t>& suppressed);
+  /// The scenario time a signal stopped the run at (set by finish()), or none.
+  std::optional<Duration> stopped_at() const { return stopped_at_; }
   /// The primary's DUT status, with any peer that failed.
   std::string primary_status() const;
   bool primary_alive() const;
@@ -137,6 +140,7 @@ class DutWatch {
   EventLoop& loop_;
   Wakeup& news_;
   std::vector<Vehicle> vehicles_;
+  std::optional<Duration> stopped_at_;
   Timestamp t0_{};
   /// Per vehicle: how many of its sent_wire_ends are set (release by the player, acquire by
   /// the watchdog: no lock per trigger).

@@ -95,6 +95,7 @@ reports::RunRecord make_run_record(const RunFacts& f, const RunIdentity& id) {
   const TruthTable table(*primary.truth, sc.duration, sc.truth_rate_hz);
   JudgeInput in{&sc, &table, primary.triggers, primary.reader->answers(), f.t0,
                 f.watch.primary_alive(), dut_status};
+  if (const auto stopped = f.watch.stopped_at()) in.stopped_at_s = to_seconds(*stopped);
   JudgeOutput j = judge(in);
 
   reports::RunRecord rec;
@@ -109,7 +110,9 @@ reports::RunRecord make_run_record(const RunFacts& f, const RunIdentity& id) {
   rec.labels.assign(sc.labels.begin(), sc.labels.end());
   rec.mode = sc.mode == TimeMode::kRealtime ? "realtime" : "lockstep";
   rec.seed = sc.seed;
-  rec.duration_s = to_seconds(sc.duration);
+  // Divided, not multiplied by 1e-9: 60 s is 60, not 60.00000000000001.
+  rec.duration_s = static_cast<double>(sc.duration.count()) / 1e9;
+  rec.stopped_at_s = in.stopped_at_s;
   rec.dut_command = primary.argv;
   if (!id.dut_executables.empty()) std::tie(rec.dut_executable, rec.dut_sha256) = id.dut_executables[0];
   rec.dut_status = dut_status;

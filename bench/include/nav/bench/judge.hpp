@@ -45,6 +45,8 @@ struct JudgeInput {
   Timestamp t0{};                       ///< CLOCK_MONOTONIC of scenario time 0
   bool dut_alive = true;                ///< DUT ran to the end and did not hang
   std::string dut_status;
+  /// The scenario time a signal stopped the run at; none for a run that reached its end.
+  std::optional<double> stopped_at_s{};
 };
 
 struct JudgeOutput {

@@ -189,6 +189,8 @@ struct RunRecord {
   std::vector<std::pair<std::string, std::string>> labels;
   std::uint64_t seed = 0;
   double duration_s = 0.0;
+  /// The scenario time a signal stopped the run at (verdict INTERRUPTED); none otherwise.
+  std::optional<double> stopped_at_s;
   std::string started_utc;          ///< ISO 8601 wall time of the start
   std::string verdict;              ///< PASS, FAIL, BENCH-LATE, DUT crashed, DUT hung
   int exit_code = 0;
