@@ -13,6 +13,8 @@
 #include <exception>
 #include <utility>
 
+#include "nav/common/bauds.hpp"
+
 // LibSerial 1.0.0 (Debian 12's libserial-dev) on ttys and pty slaves, as used here:
 // - Open() opens O_RDWR|O_NOCTTY|O_NONBLOCK (not close-on-exec), sets TIOCEXCL, saves the
 //   settings it finds, applies its raw defaults (c_iflag IGNBRK only, c_oflag 0, c_lflag 0,
@@ -34,8 +36,10 @@ struct BaudConstant {
   LibSerial::BaudRate constant;  // LibSerial's name for it
 };
 
-// Common rates from NMEA's 4800 to USB-serial adapters' 921600.
+// LibSerial's setting of each of the project's bauds (nav/common/bauds.hpp), in its order.
 constexpr BaudConstant kBauds[] = {
+    {300, LibSerial::BaudRate::BAUD_300},       {600, LibSerial::BaudRate::BAUD_600},
+    {1200, LibSerial::BaudRate::BAUD_1200},     {2400, LibSerial::BaudRate::BAUD_2400},
     {4800, LibSerial::BaudRate::BAUD_4800},     {9600, LibSerial::BaudRate::BAUD_9600},
     {19200, LibSerial::BaudRate::BAUD_19200},   {38400, LibSerial::BaudRate::BAUD_38400},
     {57600, LibSerial::BaudRate::BAUD_57600},   {115200, LibSerial::BaudRate::BAUD_115200},
@@ -95,10 +99,17 @@ tl::unexpected<Error> open_error(const std::string& path, const std::exception& 
 
 }  // namespace
 
+static_assert(std::size(kBauds) == kSerialBauds.size());
+constexpr bool same_bauds() {
+  for (std::size_t i = 0; i < kSerialBauds.size(); ++i) {
+    if (kBauds[i].baud != kSerialBauds[i]) return false;
+  }
+  return true;
+}
+static_assert(same_bauds(), "kBauds lists kSerialBauds in their order");
+
 std::vector<int> SerialPort::supported_bauds() {
-  std::vector<int> out;
-  for (const auto& b : kBauds) out.push_back(b.baud);
-  return out;
+  return std::vector<int>(kSerialBauds.begin(), kSerialBauds.end());
 }
 
 Result<SerialPort> SerialPort::open(const std::string& path, int baud) {

@@ -19,6 +19,7 @@
 #include <utility>
 #include <vector>
 
+#include "nav/common/bauds.hpp"
 #include "nav/common/units.hpp"
 #include "nav/protocols/microstrain_gx3.hpp"
 #include "nav/protocols/nmea2000.hpp"
@@ -33,7 +34,7 @@ constexpr double kBitsPerByte = 10.0;
 
 /// Smallest standard baud rate carrying bits_per_s, or 0 if none does.
 int min_baud(double bits_per_s) {
-  for (const int b : kStandardBauds) {
+  for (const int b : kSerialBauds) {
     if (b >= bits_per_s) return b;
   }
   return 0;

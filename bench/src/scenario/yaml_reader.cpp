@@ -6,6 +6,7 @@
 #include <cmath>
 #include <map>
 
+#include "nav/common/bauds.hpp"
 #include "nav/common/units.hpp"
 #include "nav/reports/text.hpp"
 
@@ -196,14 +197,15 @@ std::string Field::port() const {
 }
 
 int Field::baud() const {
+  const auto& bauds = kSerialBauds;
   std::vector<std::string> names;
-  for (const int b : kStandardBauds) names.push_back(std::to_string(b));
+  for (const int b : bauds) names.push_back(std::to_string(b));
   const std::string expected = "a standard baud rate (" + join(names) + ")";
   const std::string t = text(expected);
   int v = 0;
   const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
   if (ec != std::errc{} || end != t.data() + t.size() ||
-      std::find(kStandardBauds.begin(), kStandardBauds.end(), v) == kStandardBauds.end()) {
+      std::find(bauds.begin(), bauds.end(), v) == bauds.end()) {
     fail("expected " + expected + ", got " + quoted(t));
   }
   return v;

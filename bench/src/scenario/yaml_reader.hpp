@@ -26,10 +26,6 @@
 
 namespace nav::bench::detail {
 
-/// Baud rates a serial port (or a USB adapter) is commonly set to [bit/s].
-inline constexpr std::array<int, 13> kStandardBauds{300,   600,    1200,   2400,  4800,
-                                                    9600,  19200,  38400,  57600, 115200,
-                                                    230400, 460800, 921600};
 
 /// A problem at a place in the file. Thrown by Field and MapReader, caught by load_scenario().
 struct LoadError {
@@ -132,7 +128,7 @@ class Field {
   /// "pty" or an absolute device path.
   std::string port() const;
 
-  /// A standard baud rate (kStandardBauds) [bit/s].
+  /// A standard baud rate (kSerialBauds) [bit/s].
   int baud() const;
 
   /// The items of a list with at least min_items items.

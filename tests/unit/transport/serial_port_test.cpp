@@ -156,7 +156,7 @@ TEST(SerialPort, ErrorsAreOneLineNamingThePath) {
   EXPECT_EQ(bad_baud.error().code, ErrorCode::kInvalidArgument);
   EXPECT_EQ(bad_baud.error().detail,
             "unsupported baud 1234 for " + pty->slave_path() +
-                " (supported: 4800, 9600, 19200, 38400, 57600, 115200, 230400, 460800, 500000, "
+                " (supported: 300, 600, 1200, 2400, 4800, 9600, 19200, 38400, 57600, 115200, 230400, 460800, 500000, "
                 "576000, 921600)");
 }
 
