@@ -62,7 +62,7 @@ DecodeCounts decode_stream(const ProtocolDecoder& d, protocols::ByteSpan bytes,
   struct BadRun {
     std::size_t offset = 0, length = 0;
     std::string error;
-  } bad;  // consecutive malformed bytes with the same reason, reported once
+  } bad;  // a run of bad bytes, whatever the reasons: one record, the first reason
   const auto flush_bad = [&] {
     if (bad.length == 0) return;
     emit(json{{"type", "error"}, {"offset", bad.offset}, {"length", bad.length},
@@ -92,7 +92,9 @@ DecodeCounts decode_stream(const ProtocolDecoder& d, protocols::ByteSpan bytes,
     const bool truncated = r.status == ParseStatus::kNeedMore;
     const std::size_t n = truncated ? bytes.size() - pos : std::max<std::size_t>(r.consumed, 1);
     const std::string why = truncated ? "truncated message at end of input" : r.error;
-    if (bad.length == 0 || bad.offset + bad.length != pos || bad.error != why) {
+    // Random bytes fail at every offset, often each for a reason of its own (a Keller frame's
+    // CRC): reported one record per run, not one per byte. A truncated end is its own record.
+    if (bad.length == 0 || bad.offset + bad.length != pos || truncated) {
       flush_bad();
       bad = BadRun{pos, 0, why};
     }

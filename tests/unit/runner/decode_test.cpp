@@ -6,6 +6,7 @@
 #include <array>
 #include <map>
 #include <numbers>
+#include <random>
 
 #include "../protocols/fixtures.hpp"
 #include "nav/protocols/ebimu.hpp"
@@ -514,6 +515,29 @@ TEST_F(DecodeCapture, RealNmea2000CaptureDecodesEveryFrame) {
   EXPECT_EQ(out[2]["src"], 128);
   EXPECT_NEAR(out[2]["heading_rad"].get<double>(), 3.9324, 1e-9);
   EXPECT_NEAR(out[2]["variation_rad"].get<double>(), -0.2570, 1e-9);
+}
+
+// Random bytes fail at almost every offset, each for a reason of its own (a Keller frame's
+// CRC): a run of bad bytes is one error record, not one per byte (64 KiB of noise used to give
+// the Keller decoder about 64 000 records).
+TEST(Decode, EveryRunOfBadBytesIsOneErrorRecord) {
+  std::mt19937_64 rng(12345);
+  protocols::Bytes noise(64 * 1024);
+  for (auto& b : noise) b = static_cast<std::uint8_t>(rng());
+  for (const auto& d : protocol_decoders()) {
+    if (d.name == "nmea2000") continue;  // line-based candump text: its own test
+    DecodeCounts c;
+    const auto out = decode(d.name, noise, &c);
+    // Runs of bad bytes alternate with messages (noise may hold a valid short frame); the
+    // end may add a truncated message.
+    EXPECT_LE(c.errors, c.messages + 2) << d.name;
+    for (std::size_t i = 1; i < out.size(); ++i) {
+      EXPECT_FALSE(out[i]["type"] == "error" && out[i - 1]["type"] == "error" &&
+                   out[i - 1]["error"] != "truncated message at end of input" &&
+                   out[i]["error"] != "truncated message at end of input")
+          << d.name << ": two error records in a row at " << out[i]["offset"];
+    }
+  }
 }
 
 TEST(Decode, BytesOfOnePortFromACapture) {
