@@ -82,12 +82,22 @@ std::string banner(const RunFolder& f) {
     h += "<li>" + html_escape(n) + "</li>";
     ++lines;
   }
+  // Not the verdict, but what the reader must not miss beside it.
+  std::string asides;
+  if (const auto bad = get_number(member(s, "dut"), "malformed_output"); bad && *bad > 0) {
+    asides += "<li>the DUT wrote " + num(*bad, 10) +
+              " malformed lines (the first ones: <a href=\"#timing\">Timing</a>)</li>";
+  }
+  for (const auto& c : get_array(s, "logs_cut")) {
+    asides += "<li>" + html_escape(get_string(c, "file", "?")) +
+              " was cut at its limit (<a href=\"#timing\">Timing</a>)</li>";
+  }
   if (verdict == "INTERRUPTED") {
     h += "<li>stopped by a signal (SIGINT or SIGTERM) before the end of the scenario</li>";
     ++lines;
   }
   if (lines == 0) h += "<li>every judged check passed</li>";
-  return h + "</ul>\n</header>\n";
+  return h + asides + "</ul>\n</header>\n";
 }
 
 std::string sha_html(const json& holder) {
