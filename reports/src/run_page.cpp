@@ -93,7 +93,11 @@ std::string banner(const RunFolder& f) {
               " was cut at its limit (<a href=\"#timing\">Timing</a>)</li>";
   }
   if (verdict == "INTERRUPTED") {
-    h += "<li>stopped by a signal (SIGINT or SIGTERM) before the end of the scenario</li>";
+    const auto at = get_number(s, "stopped_at_s");
+    h += "<li>stopped by a signal (SIGINT or SIGTERM) " +
+         (at ? "at t=" + fixed(at, 2) + " s of " + fixed(get_number(s, "duration_s"), 1) + " s"
+             : std::string("before the end of the scenario")) +
+         "; checks that need the rest of the run are not judged</li>";
     ++lines;
   }
   if (lines == 0) h += "<li>every judged check passed</li>";
