@@ -6,7 +6,9 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <cstdio>
 #include <limits>
+#include <optional>
 #include <string>
 
 #include "nav/common/ensure.hpp"
@@ -149,6 +151,62 @@ TEST(NavdSolution, EmptyStatusIsAllowed) {
   const auto d = decode(parse_sentence(encode(s)));
   ASSERT_TRUE(d) << d.error().detail;
   EXPECT_EQ(d->status, "");
+}
+
+/// Parses and decodes one sentence as the bench's output reader does (parse_with_limit with
+/// kMaxSentence, then decode); nullopt when either step rejects it.
+std::optional<Solution> read_as_the_bench(const std::string& text) {
+  const Bytes bytes(text.begin(), text.end());
+  const auto r = nmea::parse_with_limit(bytes, kMaxSentence);
+  if (r.status != ParseStatus::kComplete || r.consumed != text.size()) return std::nullopt;
+  auto d = decode(*r.message);
+  if (!d) return std::nullopt;
+  return *d;
+}
+
+/// The sentence of `body` (between '$' and '*') with its checksum in the given case.
+std::string with_checksum(const std::string& body, bool lower_case = false) {
+  char hh[3];
+  std::snprintf(hh, sizeof hh, lower_case ? "%02x" : "%02X", nmea::checksum(body));
+  return "$" + body + "*" + hh;
+}
+
+// docs/dut-contract.md §4 "What the bench reads, and what it judges" lists these leniencies;
+// tightening one is a change of the contract.
+TEST(NavdSolution, ReaderLeniencyTheContractDocuments) {
+  const std::string body = "PNVBSOL,AHRS,62500,0,,,,,,,0.0000,0.0000,0.0000,ALIGNING";
+  ASSERT_EQ(with_checksum(body), "$PNVBSOL,AHRS,62500,0,,,,,,,0.0000,0.0000,0.0000,ALIGNING*6C");
+  for (const std::string& text :
+       {with_checksum(body) + "\n", with_checksum(body) + "\r\r\n",
+        with_checksum(body, true) + "\r\n", with_checksum(body) + "junk\r\n"}) {
+    const auto d = read_as_the_bench(text);
+    ASSERT_TRUE(d) << text;
+    EXPECT_EQ(d->trigger_tag, 62500u);
+    EXPECT_EQ(d->status, "ALIGNING");
+  }
+  const auto roll_of = [](const std::string& roll) -> std::optional<double> {
+    const auto d = read_as_the_bench(
+        with_checksum("PNVBSOL,AHRS,007,7,,,,,,," + roll + ",0,0,whatever it is") + "\r\n");
+    if (!d) return std::nullopt;
+    EXPECT_EQ(d->trigger_tag, 7u);  // leading zeros
+    EXPECT_EQ(d->status, "whatever it is");
+    return d->roll_deg;
+  };
+  EXPECT_EQ(roll_of("1e-3"), 1e-3);
+  EXPECT_EQ(roll_of("1E2"), 100.0);
+  EXPECT_EQ(roll_of(".5"), 0.5);
+  EXPECT_EQ(roll_of("5."), 5.0);
+  EXPECT_EQ(roll_of("720"), 720.0);
+  // What the contract lists as malformed.
+  EXPECT_FALSE(roll_of("+5"));
+  EXPECT_FALSE(roll_of("0 "));
+  EXPECT_FALSE(roll_of("0x1p3"));
+  EXPECT_FALSE(read_as_the_bench(with_checksum(body)));  // no line end yet
+  const std::string blank_line_first = "\r\n" + with_checksum(body) + "\r\n";
+  const Bytes b(blank_line_first.begin(), blank_line_first.end());
+  const auto r = nmea::parse_with_limit(b, kMaxSentence);
+  EXPECT_EQ(r.status, ParseStatus::kMalformed);
+  EXPECT_EQ(r.consumed, 2u);
 }
 
 /// decode() of the example with field i replaced; the error must name `field`.
