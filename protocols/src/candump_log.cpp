@@ -276,6 +276,12 @@ bool parse_record(Cursor& c, Record& r) {
   if (ifname.find('#') != std::string_view::npos) {
     return c.fail(if_at, "expected an interface name before the frame");
   }
+  // A NUL would cut the name short when it is written again (format_line), and no other
+  // control byte is part of a name candump printed.
+  for (std::size_t i = 0; i < ifname.size(); ++i) {
+    const auto b = static_cast<unsigned char>(ifname[i]);
+    if (b < 0x20 || b == 0x7F) return c.fail(if_at + i, "control byte in the interface name");
+  }
   r.interface = std::string(ifname);
   c.skip_spaces();
   if (c.done()) return c.fail("expected a frame after the interface name");

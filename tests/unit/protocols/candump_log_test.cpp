@@ -193,6 +193,15 @@ TEST(CandumpLine, MalformedLinesNameTheColumn) {
   EXPECT_EQ(bad_column("(1.000000)can0 123#11"), 11u);      // no space after ')'
 }
 
+// Found by tests/fuzz (candump): a NUL or another control byte in the interface name was
+// taken into the record, and format_line wrote the name cut at the NUL (or an empty one).
+TEST(CandumpLine, InterfaceNameOfControlBytesIsMalformed) {
+  using namespace std::string_literals;
+  EXPECT_EQ(bad_column("(1.000000) \0can0 123#11"s), 12u);
+  EXPECT_EQ(bad_column("(1.000000) ca\x01n0 123#11"s), 14u);
+  EXPECT_EQ(bad_column("  can\x7f  123   [1]  11"s), 6u);
+}
+
 TEST(CandumpLine, BlankCommentAndLineEndings) {
   EXPECT_EQ(parse_line("").status, LineStatus::kIgnored);
   EXPECT_EQ(parse_line("   \r\n").status, LineStatus::kIgnored);
