@@ -45,7 +45,15 @@ bool parse_line(std::string_view s, CaptureLine& out) {
   rest.remove_prefix(1);
   const auto space = rest.find(' ');
   if (space == 0 || space == std::string_view::npos) return false;
-  out.port = std::string(rest.substr(0, space));
+  // A NUL would cut the name short when the line is written again; no port name has a
+  // control byte.
+  const std::string_view port = rest.substr(0, space);
+  if (std::any_of(port.begin(), port.end(), [](char c) {
+        return static_cast<unsigned char>(c) < 0x20 || c == 0x7F;
+      })) {
+    return false;
+  }
+  out.port = std::string(port);
   const std::string_view hex = rest.substr(space + 1);
   if (hex.size() % 2 != 0) return false;
   out.bytes.clear();
