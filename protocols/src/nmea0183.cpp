@@ -188,7 +188,8 @@ Result<void> check_address(const Sentence& s, std::string_view type, std::size_t
 std::string format_fixed(double value, int decimals) {
   NAV_ENSURE(std::isfinite(value), "format_fixed of a non-finite value");
   NAV_ENSURE(decimals >= 0 && decimals <= 17, "format_fixed decimals out of range");
-  char buf[64];
+  // The widest finite value: '-', 309 integer digits, '.', 17 decimals.
+  char buf[1 + 309 + 1 + 17];
   const auto [end, ec] =
       std::to_chars(buf, buf + sizeof buf, value, std::chars_format::fixed, decimals);
   NAV_ENSURE(ec == std::errc{}, "format_fixed: value too large for the buffer");
