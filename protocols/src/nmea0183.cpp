@@ -413,10 +413,15 @@ Result<Gga> decode_gga(const Sentence& s) {
     return fail(ErrorCode::kParse, "GGA has only one of latitude and longitude");
   }
   const auto quality = f[5].empty() ? std::optional<int>{0} : parse_int(f[5]);
-  if (!quality) return fail(ErrorCode::kParse, "field quality '" + f[5] + "'");
+  // One digit and two digits on the wire (protocols.md 4).
+  if (!quality || *quality < 0 || *quality > 9) {
+    return fail(ErrorCode::kParse, "field quality '" + f[5] + "'");
+  }
   g.quality = *quality;
   const auto sats = f[6].empty() ? std::optional<int>{0} : parse_int(f[6]);
-  if (!sats) return fail(ErrorCode::kParse, "field satellites '" + f[6] + "'");
+  if (!sats || *sats < 0 || *sats > 99) {
+    return fail(ErrorCode::kParse, "field satellites '" + f[6] + "'");
+  }
   g.satellites = *sats;
   auto hdop = optional_number(s, 7, "hdop");
   if (!hdop) return tl::unexpected(hdop.error());

@@ -336,6 +336,12 @@ TEST(NmeaGga, BadFieldsAreNamed) {
   expect_error(with_field(2, "E"), "latitude");
   expect_error(with_field(3, "18118.85961"), "longitude");
   expect_error(with_field(5, "x"), "quality");
+  // Found by tests/fuzz (nmea0183): quality and satellites beyond their one and two digits
+  // decoded, though to_sentence() refuses them by contract.
+  expect_error(with_field(5, "92"), "quality");
+  expect_error(with_field(5, "-1"), "quality");
+  expect_error(with_field(6, "100"), "satellites");
+  expect_error(with_field(6, "-3"), "satellites");
   expect_error(with_field(7, "0,98"), "hdop");
   expect_error(with_field(8, "nan"), "altitude");
   Sentence short_gga = parse_ok(kGga);
