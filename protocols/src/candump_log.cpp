@@ -218,7 +218,7 @@ bool parse_print_frame(Cursor& c, can::Frame& f) {
   std::size_t len_digits = 0;
   int len = 0;
   while (is_digit(c.peek())) {
-    len = len * 10 + (c.peek() - '0');
+    if (len_digits < 2) len = len * 10 + (c.peek() - '0');  // more digits: refused below
     ++len_digits;
     c.advance();
   }

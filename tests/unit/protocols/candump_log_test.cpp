@@ -202,6 +202,12 @@ TEST(CandumpLine, InterfaceNameOfControlBytesIsMalformed) {
   EXPECT_EQ(bad_column("  can\x7f  123   [1]  11"s), 6u);
 }
 
+// Found by tests/fuzz (candump, UBSan): a long screen-print length ("[8999999999]")
+// overflowed an int while its digits were read.
+TEST(CandumpLine, LongScreenPrintLengthIsMalformed) {
+  EXPECT_EQ(bad_column("  can0  123   [8999999999]  11"), 16u);
+}
+
 TEST(CandumpLine, BlankCommentAndLineEndings) {
   EXPECT_EQ(parse_line("").status, LineStatus::kIgnored);
   EXPECT_EQ(parse_line("   \r\n").status, LineStatus::kIgnored);
