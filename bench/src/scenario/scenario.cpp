@@ -382,7 +382,8 @@ Result<Scenario> load_scenario(const std::string& path) {
   try {
     return read_scenario(Field(YAML::Node(), doc, ""), path);
   } catch (const LoadError& e) {
-    return fail(ErrorCode::kParse, location(path, e.mark) + ": " + e.message);
+    // Messages quote what the file holds (quantities, names): escaped here once for all.
+    return fail(ErrorCode::kParse, location(path, e.mark) + ": " + detail::printable(e.message));
   } catch (const YAML::Exception& e) {
     return fail(ErrorCode::kParse, location(path, e.mark) + ": " + detail::printable(e.msg));
   }

@@ -898,6 +898,7 @@ TEST(LoadScenario, ErrorsStayOnOneLine) {
   using namespace std::string_literals;
   for (const std::string& text : {"a\n\na"s, "name: x\xff\0\n"s,
                                  kMinimal + "labels: {\"a\\nb\": x}\n",
+                                 kMinimal + "truth_rate: \"10\\nHx\"\n",
                                  std::string("name: \"a\\tb\\nc\"\n")}) {
     const auto s = load_scenario(write_temp("one-line.yaml", text));
     ASSERT_FALSE(s.has_value()) << text;
