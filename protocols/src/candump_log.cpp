@@ -356,10 +356,12 @@ std::string format_line(const Record& r, std::size_t interface_width) {
   NAV_ENSURE(t.nanoseconds < 1000000000u, "timestamp fraction out of range");
   char buf[96];
   const unsigned frac = t.decimals == 6 ? t.nanoseconds / 1000 : t.nanoseconds;
-  std::snprintf(buf, sizeof buf, "(%0*llu.%0*u) %*s ", t.seconds_digits,
-                static_cast<unsigned long long>(t.seconds), t.decimals, frac,
-                static_cast<int>(interface_width), r.interface.c_str());
-  std::string out = buf + format_frame(r.frame);
+  std::snprintf(buf, sizeof buf, "(%0*llu.%0*u) ", t.seconds_digits,
+                static_cast<unsigned long long>(t.seconds), t.decimals, frac);
+  // The name after the buffer: any length, right-aligned as candump's %*s.
+  std::string out = buf;
+  if (r.interface.size() < interface_width) out.append(interface_width - r.interface.size(), ' ');
+  out += r.interface + " " + format_frame(r.frame);
   if (r.direction == Direction::kTx) out += " T";
   if (r.direction == Direction::kRx) out += " R";
   return out;

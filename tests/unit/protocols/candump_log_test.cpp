@@ -225,6 +225,16 @@ TEST(CandumpLine, InterfaceNameRightAligned) {
   EXPECT_EQ(parsed(line).interface, "can0");
 }
 
+// Found by tests/fuzz (candump): format_line printed into a 96-byte buffer, so a long
+// interface name was cut, with the space before the frame, and the line did not parse.
+TEST(CandumpLine, LongInterfaceNameIsWrittenWhole) {
+  Record r = parsed(kExampleLine);
+  r.interface = std::string(100, 'c');
+  const std::string line = format_line(r, 4);
+  EXPECT_EQ(line, "(1502984866.421964) " + r.interface + " 09F112CC#FF725AFF7FFF7FFD");
+  EXPECT_EQ(parsed(line).interface, r.interface);
+}
+
 TEST(CandumpLine, RandomFramesRoundTrip) {
   std::mt19937_64 rng(20261123);
   for (int i = 0; i < 2000; ++i) {
