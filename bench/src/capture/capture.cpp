@@ -36,6 +36,9 @@ bool parse_line(std::string_view s, CaptureLine& out) {
   long long secs = 0, nsec = 0;
   std::from_chars(sec.data(), sec.data() + sec.size(), secs);
   std::from_chars(frac.data(), frac.data() + frac.size(), nsec);
+  // Ten digits of seconds can pass 2^63 ns (about 292 years).
+  constexpr long long kMaxSeconds = 9'223'372'035;
+  if (secs > kMaxSeconds) return false;
   for (std::size_t i = frac.size(); i < 9; ++i) nsec *= 10;
   const long long ns = secs * 1'000'000'000LL + nsec;
   out.t = Duration{negative ? -ns : ns};

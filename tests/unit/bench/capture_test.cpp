@@ -51,5 +51,14 @@ TEST(CaptureLine, PortNameWithControlBytesIsMalformed) {
   EXPECT_FALSE(parse_capture("(0.1) \x01 00\n"s, "x.log").has_value());
 }
 
+// Found by tests/fuzz (capture, UBSan): ten digits of seconds overflowed the nanosecond count.
+TEST(CaptureLine, TimeBeyondTheNanosecondRangeIsMalformed) {
+  EXPECT_FALSE(parse_capture("(9999999999.5) a 00\n", "x.log").has_value());
+  EXPECT_FALSE(parse_capture("(-9999999999.5) a 00\n", "x.log").has_value());
+  const auto max = parse_capture("(9223372035.999999999) a 00\n", "x.log");
+  ASSERT_TRUE(max.has_value());
+  EXPECT_EQ((*max)[0].t, Duration{9'223'372'035'999'999'999});
+}
+
 }  // namespace
 }  // namespace nav::bench
