@@ -218,7 +218,7 @@ bool parse_print_frame(Cursor& c, can::Frame& f) {
   std::size_t len_digits = 0;
   int len = 0;
   while (is_digit(c.peek())) {
-    len = len * 10 + (c.peek() - '0');
+    if (len_digits < 2) len = len * 10 + (c.peek() - '0');  // more digits: refused below
     ++len_digits;
     c.advance();
   }
@@ -275,6 +275,12 @@ bool parse_record(Cursor& c, Record& r) {
   if (ifname.empty()) return c.fail("expected an interface name");
   if (ifname.find('#') != std::string_view::npos) {
     return c.fail(if_at, "expected an interface name before the frame");
+  }
+  // A NUL would cut the name short when it is written again (format_line), and no other
+  // control byte is part of a name candump printed.
+  for (std::size_t i = 0; i < ifname.size(); ++i) {
+    const auto b = static_cast<unsigned char>(ifname[i]);
+    if (b < 0x20 || b == 0x7F) return c.fail(if_at + i, "control byte in the interface name");
   }
   r.interface = std::string(ifname);
   c.skip_spaces();
@@ -350,10 +356,12 @@ std::string format_line(const Record& r, std::size_t interface_width) {
   NAV_ENSURE(t.nanoseconds < 1000000000u, "timestamp fraction out of range");
   char buf[96];
   const unsigned frac = t.decimals == 6 ? t.nanoseconds / 1000 : t.nanoseconds;
-  std::snprintf(buf, sizeof buf, "(%0*llu.%0*u) %*s ", t.seconds_digits,
-                static_cast<unsigned long long>(t.seconds), t.decimals, frac,
-                static_cast<int>(interface_width), r.interface.c_str());
-  std::string out = buf + format_frame(r.frame);
+  std::snprintf(buf, sizeof buf, "(%0*llu.%0*u) ", t.seconds_digits,
+                static_cast<unsigned long long>(t.seconds), t.decimals, frac);
+  // The name after the buffer: any length, right-aligned as candump's %*s.
+  std::string out = buf;
+  if (r.interface.size() < interface_width) out.append(interface_width - r.interface.size(), ' ');
+  out += r.interface + " " + format_frame(r.frame);
   if (r.direction == Direction::kTx) out += " T";
   if (r.direction == Direction::kRx) out += " R";
   return out;

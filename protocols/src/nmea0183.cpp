@@ -188,7 +188,8 @@ Result<void> check_address(const Sentence& s, std::string_view type, std::size_t
 std::string format_fixed(double value, int decimals) {
   NAV_ENSURE(std::isfinite(value), "format_fixed of a non-finite value");
   NAV_ENSURE(decimals >= 0 && decimals <= 17, "format_fixed decimals out of range");
-  char buf[64];
+  // The widest finite value: '-', 309 integer digits, '.', 17 decimals.
+  char buf[1 + 309 + 1 + 17];
   const auto [end, ec] =
       std::to_chars(buf, buf + sizeof buf, value, std::chars_format::fixed, decimals);
   NAV_ENSURE(ec == std::errc{}, "format_fixed: value too large for the buffer");
@@ -412,10 +413,15 @@ Result<Gga> decode_gga(const Sentence& s) {
     return fail(ErrorCode::kParse, "GGA has only one of latitude and longitude");
   }
   const auto quality = f[5].empty() ? std::optional<int>{0} : parse_int(f[5]);
-  if (!quality) return fail(ErrorCode::kParse, "field quality '" + f[5] + "'");
+  // One digit and two digits on the wire (protocols.md 4).
+  if (!quality || *quality < 0 || *quality > 9) {
+    return fail(ErrorCode::kParse, "field quality '" + f[5] + "'");
+  }
   g.quality = *quality;
   const auto sats = f[6].empty() ? std::optional<int>{0} : parse_int(f[6]);
-  if (!sats) return fail(ErrorCode::kParse, "field satellites '" + f[6] + "'");
+  if (!sats || *sats < 0 || *sats > 99) {
+    return fail(ErrorCode::kParse, "field satellites '" + f[6] + "'");
+  }
   g.satellites = *sats;
   auto hdop = optional_number(s, 7, "hdop");
   if (!hdop) return tl::unexpected(hdop.error());

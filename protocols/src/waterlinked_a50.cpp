@@ -188,7 +188,8 @@ ParseResult<Packet> parse(ByteSpan buffer) {
   } else if (direction == 'r') {
     return malformed(consumed, "report without checksum");
   }
-  if (body.size() < 3 || body[2] == ',' || (body.size() > 3 && body[3] != ',')) {
+  if (body.size() < 3 || body[2] == ',' || body[2] == ' ' ||
+      (body.size() > 3 && body[3] != ',')) {
     return malformed(consumed,
                      "no single command character after 'w" + std::string(1, direction) + "'");
   }

@@ -36,6 +36,9 @@ bool parse_line(std::string_view s, CaptureLine& out) {
   long long secs = 0, nsec = 0;
   std::from_chars(sec.data(), sec.data() + sec.size(), secs);
   std::from_chars(frac.data(), frac.data() + frac.size(), nsec);
+  // Ten digits of seconds can pass 2^63 ns (about 292 years).
+  constexpr long long kMaxSeconds = 9'223'372'035;
+  if (secs > kMaxSeconds) return false;
   for (std::size_t i = frac.size(); i < 9; ++i) nsec *= 10;
   const long long ns = secs * 1'000'000'000LL + nsec;
   out.t = Duration{negative ? -ns : ns};
@@ -45,7 +48,15 @@ bool parse_line(std::string_view s, CaptureLine& out) {
   rest.remove_prefix(1);
   const auto space = rest.find(' ');
   if (space == 0 || space == std::string_view::npos) return false;
-  out.port = std::string(rest.substr(0, space));
+  // A NUL would cut the name short when the line is written again; no port name has a
+  // control byte.
+  const std::string_view port = rest.substr(0, space);
+  if (std::any_of(port.begin(), port.end(), [](char c) {
+        return static_cast<unsigned char>(c) < 0x20 || c == 0x7F;
+      })) {
+    return false;
+  }
+  out.port = std::string(port);
   const std::string_view hex = rest.substr(space + 1);
   if (hex.size() % 2 != 0) return false;
   out.bytes.clear();

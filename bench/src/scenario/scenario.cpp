@@ -378,14 +378,16 @@ Result<Scenario> load_scenario(const std::string& path) {
   try {
     doc = YAML::Load(*text);
   } catch (const YAML::Exception& e) {
-    return fail(ErrorCode::kParse, location(path, e.mark) + ": YAML syntax error: " + e.msg);
+    return fail(ErrorCode::kParse, location(path, e.mark) + ": YAML syntax error: " +
+                                       detail::printable(e.msg));
   }
   try {
     return read_scenario(Field(YAML::Node(), doc, ""), path);
   } catch (const LoadError& e) {
-    return fail(ErrorCode::kParse, location(path, e.mark) + ": " + e.message);
+    // Messages quote what the file holds (quantities, names): escaped here once for all.
+    return fail(ErrorCode::kParse, location(path, e.mark) + ": " + detail::printable(e.message));
   } catch (const YAML::Exception& e) {
-    return fail(ErrorCode::kParse, location(path, e.mark) + ": " + e.msg);
+    return fail(ErrorCode::kParse, location(path, e.mark) + ": " + detail::printable(e.msg));
   }
 }
 

@@ -892,6 +892,20 @@ TEST(LoadScenario, ErrorsCarryLineAndColumn) {
                 "('m' is a length unit; units: m/s, kn, km/h)");
 }
 
+// Found by tests/fuzz (scenario): yaml-cpp's messages and the quoted values carried the
+// file's control bytes, so an error of load_scenario could span lines.
+TEST(LoadScenario, ErrorsStayOnOneLine) {
+  using namespace std::string_literals;
+  for (const std::string& text : {"a\n\na"s, "name: x\xff\0\n"s,
+                                 kMinimal + "labels: {\"a\\nb\": x}\n",
+                                 kMinimal + "truth_rate: \"10\\nHx\"\n",
+                                 std::string("name: \"a\\tb\\nc\"\n")}) {
+    const auto s = load_scenario(write_temp("one-line.yaml", text));
+    ASSERT_FALSE(s.has_value()) << text;
+    EXPECT_EQ(s.error().detail.find_first_of("\n\r\t"), std::string::npos) << s.error().detail;
+  }
+}
+
 TEST(LoadScenario, EmptyValueIsReportedAtItsKey) {
   std::string text = kMinimal;
   text.replace(text.find("duration: 10 s"), 14, "duration:");

@@ -72,6 +72,18 @@ TEST(NavdConfig, OriginOutOfRangeIsRefused) {
       << c.error().detail;
 }
 
+// Found by tests/fuzz (navd_config): yaml-cpp's messages, unknown keys and names carried the
+// file's control bytes, so the one-line error could span lines.
+TEST(NavdConfig, ErrorsStayOnOneLine) {
+  using namespace std::string_literals;
+  for (const std::string& text : {"attitude_filter: ukf\xff\0\n"s, "\"a\\nb\": 1\n"s,
+                                  "navigator: \"gps\\nins\"\n"s}) {
+    const auto c = load_config(write_config(text));
+    ASSERT_FALSE(c.has_value()) << text;
+    EXPECT_EQ(c.error().detail.find_first_of("\n\r"), std::string::npos) << c.error().detail;
+  }
+}
+
 TEST(NavdConfig, HelpListsTheChoices) {
   const std::string help = config_keys_help();
   EXPECT_NE(help.find("navigator (default gps-ins)"), std::string::npos);

@@ -193,6 +193,21 @@ TEST(CandumpLine, MalformedLinesNameTheColumn) {
   EXPECT_EQ(bad_column("(1.000000)can0 123#11"), 11u);      // no space after ')'
 }
 
+// Found by tests/fuzz (candump): a NUL or another control byte in the interface name was
+// taken into the record, and format_line wrote the name cut at the NUL (or an empty one).
+TEST(CandumpLine, InterfaceNameOfControlBytesIsMalformed) {
+  using namespace std::string_literals;
+  EXPECT_EQ(bad_column("(1.000000) \0can0 123#11"s), 12u);
+  EXPECT_EQ(bad_column("(1.000000) ca\x01n0 123#11"s), 14u);
+  EXPECT_EQ(bad_column("  can\x7f  123   [1]  11"s), 6u);
+}
+
+// Found by tests/fuzz (candump, UBSan): a long screen-print length ("[8999999999]")
+// overflowed an int while its digits were read.
+TEST(CandumpLine, LongScreenPrintLengthIsMalformed) {
+  EXPECT_EQ(bad_column("  can0  123   [8999999999]  11"), 16u);
+}
+
 TEST(CandumpLine, BlankCommentAndLineEndings) {
   EXPECT_EQ(parse_line("").status, LineStatus::kIgnored);
   EXPECT_EQ(parse_line("   \r\n").status, LineStatus::kIgnored);
@@ -208,6 +223,16 @@ TEST(CandumpLine, InterfaceNameRightAligned) {
   const std::string line = format_line(r, 6);
   EXPECT_EQ(line, "(1502984866.421964)   can0 09F112CC#FF725AFF7FFF7FFD");
   EXPECT_EQ(parsed(line).interface, "can0");
+}
+
+// Found by tests/fuzz (candump): format_line printed into a 96-byte buffer, so a long
+// interface name was cut, with the space before the frame, and the line did not parse.
+TEST(CandumpLine, LongInterfaceNameIsWrittenWhole) {
+  Record r = parsed(kExampleLine);
+  r.interface = std::string(100, 'c');
+  const std::string line = format_line(r, 4);
+  EXPECT_EQ(line, "(1502984866.421964) " + r.interface + " 09F112CC#FF725AFF7FFF7FFD");
+  EXPECT_EQ(parsed(line).interface, r.interface);
 }
 
 TEST(CandumpLine, RandomFramesRoundTrip) {

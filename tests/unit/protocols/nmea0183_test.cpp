@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <ctime>
+#include <limits>
 #include <random>
 #include <string>
 #include <string_view>
@@ -335,6 +336,12 @@ TEST(NmeaGga, BadFieldsAreNamed) {
   expect_error(with_field(2, "E"), "latitude");
   expect_error(with_field(3, "18118.85961"), "longitude");
   expect_error(with_field(5, "x"), "quality");
+  // Found by tests/fuzz (nmea0183): quality and satellites beyond their one and two digits
+  // decoded, though to_sentence() refuses them by contract.
+  expect_error(with_field(5, "92"), "quality");
+  expect_error(with_field(5, "-1"), "quality");
+  expect_error(with_field(6, "100"), "satellites");
+  expect_error(with_field(6, "-3"), "satellites");
   expect_error(with_field(7, "0,98"), "hdop");
   expect_error(with_field(8, "nan"), "altitude");
   Sentence short_gga = parse_ok(kGga);
@@ -466,6 +473,19 @@ TEST(NmeaText, FormatAndParseNumbers) {
   EXPECT_FALSE(parse_number("0,98"));
   EXPECT_FALSE(parse_number("inf"));
   EXPECT_FALSE(parse_number("nan"));
+}
+
+// Found by tests/fuzz (ebimu, evologics_usbl): format_fixed aborted ("value too large for the
+// buffer") on finite values from about 1e46 up, which parse_number accepts ("1e300"); navd's
+// $PNVBSOL goes through it too, so a diverging filter would have aborted navd.
+TEST(NmeaText, FormatFixedOfTheLargestFiniteValues) {
+  const std::string big = format_fixed(1e300, 2);
+  EXPECT_EQ(big.size(), 301u + 3u);
+  EXPECT_EQ(big.substr(0, 2), "10");
+  EXPECT_EQ(big.substr(big.size() - 3), ".00");
+  const std::string lowest = format_fixed(-std::numeric_limits<double>::max(), 17);
+  EXPECT_EQ(lowest.size(), 1u + 309u + 1u + 17u);
+  EXPECT_EQ(parse_number(lowest), -std::numeric_limits<double>::max());
 }
 
 }  // namespace

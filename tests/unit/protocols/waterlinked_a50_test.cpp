@@ -200,6 +200,15 @@ TEST(WaterLinkedA50, MalformedPacketsSayWhy) {
   EXPECT_EQ(decode_position(vp).error().detail, "packet wrz is not wrp");
 }
 
+// Found by tests/fuzz (waterlinked_a50): "wc \n" parsed as a command ' ', which frame()
+// refuses (a command is one printable character other than ' ', ',' and '*').
+TEST(WaterLinkedA50, SpaceIsNoCommand) {
+  const auto r = parse(to_bytes("wc \n"));
+  EXPECT_EQ(r.status, ParseStatus::kMalformed);
+  EXPECT_EQ(r.consumed, 4u);
+  EXPECT_EQ(parse(to_bytes("wc ,1\n")).status, ParseStatus::kMalformed);
+}
+
 TEST(WaterLinkedA50, EveryPrefixNeedsMore) {
   const Bytes line = to_bytes(
       "wrz,0.120,-0.400,2.000,y,1.30,1.855,1e-07;0;1.4;0;1.2;0;0.2;0;"

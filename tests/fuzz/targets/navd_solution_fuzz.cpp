@@ -1,0 +1,40 @@
+// SPDX-License-Identifier: MIT
+// The DUT's `$PNVBSOL` output (docs/dut-contract.md) as the bench's OutputReader reads it:
+// NMEA framing up to navd::kMaxSentence, whatever the DUT writes, in any reads, then
+// navd::decode. A solution that decodes is a fixed point of encode(decode(.)).
+#include "fuzz_support.hpp"
+#include "nav/protocols/navd_solution.hpp"
+
+namespace {
+
+namespace nmea = nav::protocols::nmea;
+namespace navd = nav::protocols::navd;
+
+constexpr std::size_t kMaxBuffer = 16 * 1024;
+
+nav::protocols::ParseResult<nmea::Sentence> parse_output(nav::fuzz::ByteSpan buffer) {
+  return nmea::parse_with_limit(buffer, navd::kMaxSentence);
+}
+
+void check(const nmea::Sentence& s) {
+  if (s.talker + s.type != navd::kAddress) return;
+  const auto sol = navd::decode(s);
+  if (!sol) return;
+  const std::string text = navd::encode(*sol);
+  if (text.size() > navd::kMaxSentence) return;  // e.g. "1e300" written out: no sentence
+  const auto again =
+      nav::fuzz::parse_exactly<nmea::Sentence, &parse_output>(nav::fuzz::bytes_of(text));
+  const auto decoded = navd::decode(again);
+  NAV_ENSURE(decoded.has_value(), "an encoded solution does not decode: " + text);
+  NAV_ENSURE(navd::encode(*decoded) == text, "encode(decode(.)) moves: " + text);
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  const nav::fuzz::Input in(data, size);
+  for (const auto& s : nav::fuzz::stream<nmea::Sentence, &parse_output>(in, '$', kMaxBuffer)) {
+    check(s);
+  }
+  return 0;
+}
