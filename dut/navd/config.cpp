@@ -8,27 +8,10 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "nav/common/escape.hpp"
+
 namespace nav::dut {
 namespace {
-
-/// s with its control bytes escaped ("\\n", "\\x00"): the error stays one line.
-std::string printable(const std::string& s) {
-  std::string out;
-  for (const char c : s) {
-    const auto b = static_cast<unsigned char>(c);
-    if (c == '\n') {
-      out += "\\n";
-    } else if (b < 0x20 || b == 0x7F) {
-      constexpr char kHex[] = "0123456789ABCDEF";
-      out += "\\x";
-      out += kHex[b >> 4];
-      out += kHex[b & 0xF];
-    } else {
-      out += c;
-    }
-  }
-  return out;
-}
 
 std::string where(const std::string& path, const YAML::Mark& m) {
   if (m.is_null()) return path;
@@ -87,7 +70,7 @@ std::string format_g(double v) {
 /// Sets `navigator` or `attitude_filter` from a scalar; the error is the reason only.
 Result<void> set_choice(NavdConfig& config, const std::string& key, const YAML::Node& value) {
   if (!value.IsScalar()) return fail(ErrorCode::kParse, "'" + key + "' expects a name");
-  const std::string v = printable(value.Scalar());
+  const std::string v = escape_controls(value.Scalar());
   if (key == kNavigatorKey) {
     if (v == "gps-ins") {
       config.navigator = NavigatorKind::kGpsIns;
@@ -130,7 +113,7 @@ Result<NavdConfig> load_config(const std::string& path) {
   } catch (const YAML::BadFile&) {
     return fail(ErrorCode::kNotFound, "cannot read config " + path);
   } catch (const YAML::Exception& e) {
-    return fail(ErrorCode::kParse, where(path, e.mark) + ": " + printable(e.msg));
+    return fail(ErrorCode::kParse, where(path, e.mark) + ": " + escape_controls(e.msg));
   }
   NavdConfig config;
   if (root.IsNull()) return config;  // an empty file keeps every default
@@ -141,7 +124,7 @@ Result<NavdConfig> load_config(const std::string& path) {
   for (const auto& kv : root) {
     const YAML::Node& key = kv.first;
     const YAML::Node& value = kv.second;
-    const std::string name = key.IsScalar() ? printable(key.Scalar()) : std::string("?");
+    const std::string name = key.IsScalar() ? escape_controls(key.Scalar()) : std::string("?");
     if (name == kNavigatorKey || name == kAttitudeKey) {
       if (auto ok = set_choice(config, name, value); !ok) {
         return fail(ok.error().code, where(path, value.Mark()) + ": " + ok.error().detail);

@@ -127,29 +127,4 @@ std::string json_for_script(const nlohmann::json& j) {
   return out;
 }
 
-std::string escaped_bytes(std::string_view bytes) {
-  static constexpr char kHex[] = "0123456789ABCDEF";
-  std::string out;
-  out.reserve(bytes.size());
-  for (const char ch : bytes) {
-    const auto b = static_cast<unsigned char>(ch);
-    if (b == '\\') {
-      out += "\\\\";
-    } else if (b >= 0x20 && b < 0x7F) {
-      out += ch;
-    } else if (b == '\r') {
-      out += "\\r";
-    } else if (b == '\n') {
-      out += "\\n";
-    } else if (b == '\t') {
-      out += "\\t";
-    } else {
-      out += "\\x";
-      out += kHex[b >> 4];
-      out += kHex[b & 0x0F];
-    }
-  }
-  return out;
-}
-
 }  // namespace nav::reports

@@ -16,7 +16,7 @@
 
 #include "nav/bench/capture.hpp"
 #include "nav/protocols/nmea0183.hpp"
-#include "nav/reports/text.hpp"
+#include "nav/common/escape.hpp"
 #include "run/event_loop.hpp"
 
 namespace nav::bench {
@@ -164,12 +164,12 @@ void OutputReader::note_malformed(protocols::ByteSpan bytes, const std::string& 
   const std::string_view all(reinterpret_cast<const char*>(bytes.data()), bytes.size());
   std::string text;
   if (all.size() <= reports::kMalformedTextBytes) {
-    text = reports::escaped_bytes(all);
+    text = escape_bytes(all);
   } else {  // its head and its tail (where a checksum is)
     const std::size_t tail = reports::kMalformedTextBytes / 3;
     const std::size_t head = reports::kMalformedTextBytes - tail;
-    text = reports::escaped_bytes(all.substr(0, head)) + "..." +
-           reports::escaped_bytes(all.substr(all.size() - tail)) + " (" +
+    text = escape_bytes(all.substr(0, head)) + "..." +
+           escape_bytes(all.substr(all.size() - tail)) + " (" +
            std::to_string(all.size()) + " bytes)";
   }
   malformed_examples_.push_back({to_seconds(rx - t0_), std::move(text), why});

@@ -23,6 +23,7 @@
 #include <string_view>
 #include <utility>
 
+#include "nav/common/escape.hpp"
 #include "nav/common/units.hpp"
 #include "nav/reports/text.hpp"
 #include "scenario/quantity.hpp"
@@ -379,15 +380,15 @@ Result<Scenario> load_scenario(const std::string& path) {
     doc = YAML::Load(*text);
   } catch (const YAML::Exception& e) {
     return fail(ErrorCode::kParse, location(path, e.mark) + ": YAML syntax error: " +
-                                       detail::printable(e.msg));
+                                       escape_controls(e.msg));
   }
   try {
     return read_scenario(Field(YAML::Node(), doc, ""), path);
   } catch (const LoadError& e) {
     // Messages quote what the file holds (quantities, names): escaped here once for all.
-    return fail(ErrorCode::kParse, location(path, e.mark) + ": " + detail::printable(e.message));
+    return fail(ErrorCode::kParse, location(path, e.mark) + ": " + escape_controls(e.message));
   } catch (const YAML::Exception& e) {
-    return fail(ErrorCode::kParse, location(path, e.mark) + ": " + detail::printable(e.msg));
+    return fail(ErrorCode::kParse, location(path, e.mark) + ": " + escape_controls(e.msg));
   }
 }
 

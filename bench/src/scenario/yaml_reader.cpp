@@ -7,6 +7,7 @@
 #include <map>
 
 #include "nav/common/bauds.hpp"
+#include "nav/common/escape.hpp"
 #include "nav/common/units.hpp"
 #include "nav/reports/text.hpp"
 
@@ -41,29 +42,8 @@ std::string describe_bounded(Dimension dim, Bound b) {
 
 }  // namespace
 
-std::string printable(std::string_view s) {
-  std::string out;
-  out.reserve(s.size());
-  for (const char c : s) {
-    const auto b = static_cast<unsigned char>(c);
-    if (c == '\n') {
-      out += "\\n";
-    } else if (c == '\t') {
-      out += "\\t";
-    } else if (b < 0x20 || b == 0x7F) {
-      constexpr char kHex[] = "0123456789ABCDEF";
-      out += "\\x";
-      out += kHex[b >> 4];
-      out += kHex[b & 0xF];
-    } else {
-      out += c;
-    }
-  }
-  return out;
-}
-
 std::string quoted(std::string_view s) {
-  return "'" + printable(s) + "'";
+  return "'" + escape_controls(s) + "'";
 }
 
 std::string join(const std::vector<std::string>& items, std::string_view sep) {

@@ -33,10 +33,7 @@ struct LoadError {
   std::string message;
 };
 
-/// s with its control bytes escaped ("\\n", "\\x00"), so that a message stays one line.
-std::string printable(std::string_view s);
-
-/// "'text'" (printable()), for naming a value in a message.
+/// "'text'" (nav::escape_controls()), for naming a value in a message.
 std::string quoted(std::string_view s);
 
 /// The items separated by sep: "a, b, c".

@@ -152,7 +152,7 @@ struct VehicleTrack {
 /// A piece of the DUT's output the bench could not read as a sentence (the first few).
 struct MalformedOutput {
   double rx_s = 0.0;  ///< when it was received, since T0 (as in the receive capture) [s]
-  /// Its bytes, escaped_bytes(); of a longer piece, the first two thirds and the last third
+  /// Its bytes, nav::escape_bytes(); of a longer piece, the first two thirds and the last third
   /// of kMalformedTextBytes, with "..." between and its length after.
   std::string text;
   std::string why;    ///< the parser's reason (checksum, field count, number, length, ...)

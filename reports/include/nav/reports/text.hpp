@@ -20,10 +20,6 @@ std::string valid_utf8(std::string_view s);
 /// valid_utf8 judges), or nothing when s is valid UTF-8.
 std::optional<std::size_t> first_invalid_utf8(std::string_view s);
 
-/// Bytes as printable ASCII, as a C string literal would show them: printable ASCII as is
-/// (backslash doubled), CR, LF and tab as \r, \n, \t, every other byte as \xHH.
-std::string escaped_bytes(std::string_view bytes);
-
 /// valid_utf8(s) with & < > " ' as character references: safe as HTML text and in a quoted
 /// attribute value.
 std::string html_escape(std::string_view s);
