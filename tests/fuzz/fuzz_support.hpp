@@ -27,6 +27,10 @@ using protocols::Bytes;
 using protocols::ParseResult;
 using protocols::ParseStatus;
 
+/// navd's bound on the undecoded bytes of an input line (NavdApp::kInputBufferBytes): the
+/// StreamDecoder bound the line-based targets run with.
+inline constexpr std::size_t kInputBufferBytes = 16 * 1024;
+
 /// A fuzz input: the read plan (first byte) and the stream (the rest).
 struct Input {
   std::uint8_t plan = 0;  ///< 0: the stream in one read; n: reads of 1..n bytes
@@ -96,10 +100,12 @@ ParseResult<Message> checked(ByteSpan buffer) {
   return r;
 }
 
-/// Runs the stream through navd's StreamDecoder in the input's reads; returns the messages.
+/// Runs the stream through navd's StreamDecoder in the input's reads (bounded as navd bounds
+/// an input line unless max_buffer says otherwise); returns the messages.
 /// Each message takes at least one byte, and the decoder never holds more than its bound.
 template <typename Message, ParseFn<Message> Parse, typename Sync>
-std::vector<Message> stream(const Input& in, Sync sync, std::size_t max_buffer) {
+std::vector<Message> stream(const Input& in, Sync sync,
+                            std::size_t max_buffer = kInputBufferBytes) {
   dut::StreamDecoder<Message> decoder(&checked<Message, Parse>, sync, max_buffer);
   std::vector<Message> out;
   in.reads([&](ByteSpan bytes) {

@@ -9,7 +9,6 @@ namespace {
 
 namespace ebimu = nav::protocols::ebimu;
 
-constexpr std::size_t kMaxBuffer = 16 * 1024;  // navd's bound on an input line's bytes
 
 void check(const ebimu::Line& line) {
   for (const auto orientation : {ebimu::Orientation::kEuler, ebimu::Orientation::kQuaternion}) {
@@ -35,7 +34,7 @@ void check(const ebimu::Line& line) {
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const nav::fuzz::Input in(data, size);
   for (const auto& line : nav::fuzz::stream<ebimu::Line, &ebimu::parse>(
-           in, static_cast<std::uint8_t>(ebimu::kStartOfLine), kMaxBuffer)) {
+           in, static_cast<std::uint8_t>(ebimu::kStartOfLine))) {
     check(line);
   }
   return 0;

@@ -9,7 +9,6 @@ namespace {
 
 namespace evo = nav::protocols::evologics;
 
-constexpr std::size_t kMaxBuffer = 16 * 1024;  // navd's bound on an input line's bytes
 
 bool usbl_sync(std::uint8_t b) { return b == '+' || (b >= 'A' && b <= 'Z'); }  // as navd
 
@@ -17,8 +16,7 @@ bool usbl_sync(std::uint8_t b) { return b == '+' || (b >= 'A' && b <= 'Z'); }  /
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const nav::fuzz::Input in(data, size);
-  for (const auto& n : nav::fuzz::stream<evo::Notification, &evo::parse>(in, &usbl_sync,
-                                                                          kMaxBuffer)) {
+  for (const auto& n : nav::fuzz::stream<evo::Notification, &evo::parse>(in, &usbl_sync)) {
     const std::string text = evo::encode(n);
     if (text.size() > evo::kMaxPayload) continue;  // e.g. "1e300" written out: no line
     const auto again =

@@ -13,7 +13,6 @@ namespace {
 namespace keller = nav::protocols::keller;
 using nav::fuzz::ByteSpan;
 
-constexpr std::size_t kMaxBuffer = 16 * 1024;  // navd's bound on an input line's bytes
 
 bool keller_sync(std::uint8_t b) { return b <= keller::kMaxAddress; }  // as navd
 
@@ -28,8 +27,8 @@ void encodes_to(const Message& m, ByteSpan bytes) {
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const nav::fuzz::Input in(data, size);
-  nav::fuzz::stream<keller::Response, &keller::parse_response>(in, &keller_sync, kMaxBuffer);
-  nav::fuzz::stream<keller::Request, &keller::parse_request>(in, &keller_sync, kMaxBuffer);
+  nav::fuzz::stream<keller::Response, &keller::parse_response>(in, &keller_sync);
+  nav::fuzz::stream<keller::Request, &keller::parse_request>(in, &keller_sync);
   nav::fuzz::drain<keller::Response, &keller::parse_response>(in.stream,
                                                               encodes_to<keller::Response>);
   nav::fuzz::drain<keller::Request, &keller::parse_request>(in.stream,

@@ -11,7 +11,6 @@ namespace {
 namespace modem = nav::protocols::navd_modem;
 namespace nmea = nav::protocols::nmea;
 
-constexpr std::size_t kMaxBuffer = 16 * 1024;  // navd's bound on an input line's bytes
 
 void check(const modem::Position& p) {
   NAV_ENSURE(modem::encodable(p), "a decoded report is not encodable");
@@ -27,7 +26,7 @@ void check(const modem::Position& p) {
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const nav::fuzz::Input in(data, size);
   // navd's modem link: framing first, then the report's fields.
-  for (const auto& s : nav::fuzz::stream<nmea::Sentence, &nmea::parse>(in, '$', kMaxBuffer)) {
+  for (const auto& s : nav::fuzz::stream<nmea::Sentence, &nmea::parse>(in, '$')) {
     if (s.talker + s.type != modem::kAddress) continue;
     if (const auto p = modem::decode(s)) check(*p);
   }

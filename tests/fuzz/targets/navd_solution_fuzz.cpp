@@ -10,7 +10,6 @@ namespace {
 namespace nmea = nav::protocols::nmea;
 namespace navd = nav::protocols::navd;
 
-constexpr std::size_t kMaxBuffer = 16 * 1024;
 
 nav::protocols::ParseResult<nmea::Sentence> parse_output(nav::fuzz::ByteSpan buffer) {
   return nmea::parse_with_limit(buffer, navd::kMaxSentence);
@@ -33,7 +32,7 @@ void check(const nmea::Sentence& s) {
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const nav::fuzz::Input in(data, size);
-  for (const auto& s : nav::fuzz::stream<nmea::Sentence, &parse_output>(in, '$', kMaxBuffer)) {
+  for (const auto& s : nav::fuzz::stream<nmea::Sentence, &parse_output>(in, '$')) {
     check(s);
   }
   return 0;

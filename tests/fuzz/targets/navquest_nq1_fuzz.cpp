@@ -8,14 +8,11 @@
 namespace {
 
 namespace nq1 = nav::protocols::navquest_nq1;
-
-constexpr std::size_t kMaxBuffer = 16 * 1024;  // navd's bound on an input line's bytes
-
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const nav::fuzz::Input in(data, size);
-  for (const auto& m : nav::fuzz::stream<nq1::Nq1, &nq1::parse>(in, '$', kMaxBuffer)) {
+  for (const auto& m : nav::fuzz::stream<nq1::Nq1, &nq1::parse>(in, '$')) {
     const std::string first = nq1::encode(m);
     if (first.size() > nq1::kMaxLine) continue;  // e.g. "1e300" written out: no line
     const std::string text = nq1::encode(

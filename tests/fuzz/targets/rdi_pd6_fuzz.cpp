@@ -8,14 +8,11 @@
 namespace {
 
 namespace pd6 = nav::protocols::rdi_pd6;
-
-constexpr std::size_t kMaxBuffer = 16 * 1024;  // navd's bound on an input line's bytes
-
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const nav::fuzz::Input in(data, size);
-  for (const auto& line : nav::fuzz::stream<pd6::Line, &pd6::parse>(in, ':', kMaxBuffer)) {
+  for (const auto& line : nav::fuzz::stream<pd6::Line, &pd6::parse>(in, ':')) {
     const std::string text = pd6::encode(line);
     if (text.size() > pd6::kMaxLine) continue;  // e.g. "1e300" written out: no line
     const auto again = nav::fuzz::parse_exactly<pd6::Line, &pd6::parse>(nav::fuzz::bytes_of(text));

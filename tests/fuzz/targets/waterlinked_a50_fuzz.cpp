@@ -9,7 +9,6 @@ namespace {
 
 namespace a50 = nav::protocols::waterlinked_a50;
 
-constexpr std::size_t kMaxBuffer = 16 * 1024;  // navd's bound on an input line's bytes
 
 bool same(const a50::Packet& a, const a50::Packet& b) {
   return a.direction == b.direction && a.command == b.command && a.options == b.options;
@@ -44,6 +43,6 @@ void check(const a50::Packet& p) {
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const nav::fuzz::Input in(data, size);
-  for (const auto& p : nav::fuzz::stream<a50::Packet, &a50::parse>(in, 'w', kMaxBuffer)) check(p);
+  for (const auto& p : nav::fuzz::stream<a50::Packet, &a50::parse>(in, 'w')) check(p);
   return 0;
 }
