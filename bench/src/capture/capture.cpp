@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cstdio>
 #include <sstream>
 #include <string_view>
 
@@ -71,17 +72,29 @@ bool parse_line(std::string_view s, CaptureLine& out) {
 
 }  // namespace
 
+void append_capture_line(std::string& out, Duration since_t0, std::string_view port,
+                         std::span<const std::uint8_t> bytes) {
+  static constexpr char kHex[] = "0123456789ABCDEF";
+  const long long ns = since_t0.count();
+  const long long a = ns < 0 ? -ns : ns;
+  char head[48];
+  const int n = std::snprintf(head, sizeof head, "(%s%lld.%09lld) ", ns < 0 ? "-" : "",
+                              a / 1'000'000'000, a % 1'000'000'000);
+  out.append(head, static_cast<std::size_t>(n));
+  out += port;
+  out += ' ';
+  for (const auto b : bytes) {
+    out += kHex[b >> 4];
+    out += kHex[b & 0x0F];
+  }
+  out += '\n';
+}
 
 void write_capture_line(std::FILE* f, Duration since_t0, const std::string& port,
                         std::span<const std::uint8_t> bytes) {
-  const long long ns = since_t0.count();
-  const long long a = ns < 0 ? -ns : ns;
-  ::flockfile(f);  // one whole line: the receive capture has two writers (threads)
-  std::fprintf(f, "(%s%lld.%09lld) %s ", ns < 0 ? "-" : "", a / 1'000'000'000,
-               a % 1'000'000'000, port.c_str());
-  for (const auto b : bytes) std::fprintf(f, "%02X", b);
-  std::fputc('\n', f);
-  ::funlockfile(f);
+  std::string line;
+  append_capture_line(line, since_t0, port, bytes);
+  std::fwrite(line.data(), 1, line.size(), f);  // one call: a whole line, whatever the threads
 }
 
 

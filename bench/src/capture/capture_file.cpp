@@ -3,6 +3,8 @@
 
 #include <stdexcept>
 
+#include "nav/bench/capture.hpp"
+
 namespace nav::bench {
 
 CaptureFile::CaptureFile(const std::filesystem::path& path, std::uint64_t limit)
@@ -14,29 +16,15 @@ CaptureFile::~CaptureFile() { std::fclose(f_); }
 
 void CaptureFile::write(Duration since_t0, const std::string& port,
                         std::span<const std::uint8_t> bytes) {
-  static constexpr char kHex[] = "0123456789ABCDEF";
-  const long long ns = since_t0.count();
-  const long long a = ns < 0 ? -ns : ns;
-  char head[64];
-  const int n = std::snprintf(head, sizeof head, "(%s%lld.%09lld) ", ns < 0 ? "-" : "",
-                              a / 1'000'000'000, a % 1'000'000'000);
   std::lock_guard lock(mutex_);
-  const std::uint64_t length = static_cast<std::uint64_t>(n) + port.size() + 1 + 2 * bytes.size() + 1;
-  if (limit_ > 0 && size_ + length > limit_) {
+  line_.clear();
+  append_capture_line(line_, since_t0, port, bytes);
+  if (limit_ > 0 && size_ + line_.size() > limit_) {
     cut_bytes_ += bytes.size();
-    ++cut_lines_;
     return;
   }
-  line_.assign(head, static_cast<std::size_t>(n));
-  line_ += port;
-  line_ += ' ';
-  for (const auto b : bytes) {
-    line_ += kHex[b >> 4];
-    line_ += kHex[b & 0x0F];
-  }
-  line_ += '\n';
   std::fwrite(line_.data(), 1, line_.size(), f_);
-  size_ += length;
+  size_ += line_.size();
 }
 
 void CaptureFile::flush() {
@@ -47,11 +35,6 @@ void CaptureFile::flush() {
 std::uint64_t CaptureFile::cut_bytes() const {
   std::lock_guard lock(mutex_);
   return cut_bytes_;
-}
-
-std::uint64_t CaptureFile::cut_lines() const {
-  std::lock_guard lock(mutex_);
-  return cut_lines_;
 }
 
 }  // namespace nav::bench

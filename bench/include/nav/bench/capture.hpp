@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "nav/common/result.hpp"
@@ -15,6 +16,10 @@
 #include "nav/protocols/parse.hpp"
 
 namespace nav::bench {
+
+/// Appends one capture line, "(<sec>.<nsec>) <port> <hex>\n", to out.
+void append_capture_line(std::string& out, Duration since_t0, std::string_view port,
+                         std::span<const std::uint8_t> bytes);
 
 /// Appends one capture line to f (no flush).
 void write_capture_line(std::FILE* f, Duration since_t0, const std::string& port,

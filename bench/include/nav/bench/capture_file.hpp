@@ -27,16 +27,15 @@ class CaptureFile {
   CaptureFile(const CaptureFile&) = delete;
   CaptureFile& operator=(const CaptureFile&) = delete;
 
-  /// Appends "(<sec>.<nsec>) <port> <hex>" (write_capture_line's format), or counts it when
+  /// Appends "(<sec>.<nsec>) <port> <hex>" (append_capture_line), or counts it when
   /// the line would take the file past its limit. Safe from several threads.
   void write(Duration since_t0, const std::string& port, std::span<const std::uint8_t> bytes);
   void flush();
 
   const std::filesystem::path& path() const { return path_; }
   std::uint64_t limit() const { return limit_; }
-  /// Bytes of the lines not written (what the DUT sent, not their hex) and those lines.
+  /// Bytes of the lines not written (what the DUT sent, not their hex).
   std::uint64_t cut_bytes() const;
-  std::uint64_t cut_lines() const;
 
  private:
   std::filesystem::path path_;
@@ -44,7 +43,7 @@ class CaptureFile {
   mutable std::mutex mutex_;
   std::FILE* f_ = nullptr;
   std::uint64_t size_ = 0;
-  std::uint64_t cut_bytes_ = 0, cut_lines_ = 0;
+  std::uint64_t cut_bytes_ = 0;
   std::string line_;  ///< the line being formatted (kept: no allocation per line)
 };
 
