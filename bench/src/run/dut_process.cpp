@@ -99,9 +99,7 @@ DutProcess::DutProcess(DutProcess&& o) noexcept
     : pid_(std::exchange(o.pid_, -1)), exit_(std::move(o.exit_)), guard_(std::move(o.guard_)) {}
 
 DutProcess::~DutProcess() {
-  if (pid_ <= 0) return;
-  if (exit_.empty()) stop(0.5);
-  end_group();
+  if (pid_ > 0) stop(0.5);  // ends what is left of its group, running or not
 }
 
 void DutProcess::end_group() {
@@ -133,23 +131,20 @@ bool DutProcess::running() {
 }
 
 void DutProcess::stop(double grace_s) {
-  if (!running()) {
-    if (pid_ > 0) end_group();
-    return;
-  }
-  ::kill(-pid_, SIGTERM);
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(grace_s);
-  while (std::chrono::steady_clock::now() < deadline) {
-    if (!running()) {
-      end_group();
-      return;
+  if (running()) {
+    ::kill(-pid_, SIGTERM);
+    const auto deadline =
+        std::chrono::steady_clock::now() + std::chrono::duration<double>(grace_s);
+    while (std::chrono::steady_clock::now() < deadline && running()) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
     }
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    if (running()) {
+      ::kill(-pid_, SIGKILL);
+      int status = 0;
+      if (::waitpid(pid_, &status, 0) == pid_) record_status(status);
+    }
   }
-  ::kill(-pid_, SIGKILL);
-  int status = 0;
-  if (::waitpid(pid_, &status, 0) == pid_) record_status(status);
-  end_group();
+  if (pid_ > 0) end_group();
 }
 
 }  // namespace nav::bench
