@@ -106,14 +106,12 @@ std::string verdict_text(const RunRecord& r) {
                   ms(r.bench_lateness.p50_s), ms(r.bench_lateness.p99_s),
                   ms(r.bench_lateness.max_s), r.bench_lateness.count,
                   ms(r.lateness_budget_p99_s));
-    o << line;
     if (r.bench_lateness.count < kMinMessagesForP99) {
+      o << line;
       std::snprintf(line, sizeof line,
                     "  bench lateness  fewer than %zu messages: the median judged, not the p99 "
                     "(%zu over the budget)\n",
                     kMinMessagesForP99, r.lateness_over_budget);
-    } else {
-      line[0] = '\0';
     }
   } else if (r.mode == "lockstep") {
     std::snprintf(line, sizeof line, "  bench lateness  n/a (lockstep: virtual time)\n");
