@@ -33,6 +33,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "nav/reports/run_record.hpp"
+
 extern char** environ;
 
 namespace {
@@ -93,13 +95,6 @@ std::vector<pid_t> descendants(pid_t root) {
     }
   }
   return out;
-}
-
-double percentile(std::vector<double> v, double p) {
-  if (v.empty()) return NAN;
-  std::sort(v.begin(), v.end());
-  const auto k = static_cast<std::size_t>(std::ceil(p / 100.0 * static_cast<double>(v.size())));
-  return v[std::clamp<std::size_t>(k, 1, v.size()) - 1];
 }
 
 bool parse(int argc, char** argv, Options& o) {
@@ -178,7 +173,7 @@ int main(int argc, char** argv) {
 
   // Lateness per window of scenario time, from the run's lateness.csv.
   const double window_s = o.window_minutes * 60.0;
-  std::map<int, std::vector<double>> late_ms;
+  std::map<int, std::vector<double>> late_s;
   std::ifstream csv(fs::path(o.out) / "run/lateness.csv");
   std::string line;
   std::getline(csv, line);  // header: device,scheduled_s,actual_s,lateness_us
@@ -190,7 +185,7 @@ int main(int argc, char** argv) {
     std::getline(row, actual, ',');
     std::getline(row, lateness, ',');
     if (scheduled.empty() || lateness.empty()) continue;
-    late_ms[static_cast<int>(std::stod(scheduled) / window_s)].push_back(std::stod(lateness) / 1e3);
+    late_s[static_cast<int>(std::stod(scheduled) / window_s)].push_back(std::stod(lateness) / 1e6);
   }
   // Memory per window of wall time since navbench started (the startup before scenario time 0
   // falls in the first window).
@@ -200,7 +195,7 @@ int main(int argc, char** argv) {
               "p99 [ms]", "max [ms]", "bench [MB]", "DUTs [MB]");
   const int windows = static_cast<int>(std::ceil(o.minutes / o.window_minutes));
   for (int w = 0; w < windows; ++w) {
-    const auto& v = late_ms[w];
+    const auto st = nav::reports::summarize(late_s[w]);  // the bench's own percentiles
     double bench_mb = 0.0, dut_mb = 0.0;  // the window's last sample
     for (const auto& s : samples) {
       if (s.t_s >= w * window_s && s.t_s < (w + 1) * window_s) {
@@ -208,10 +203,10 @@ int main(int argc, char** argv) {
         dut_mb = s.dut_mb;
       }
     }
-    const double p99 = percentile(v, 99.0), max = v.empty() ? NAN : *std::max_element(v.begin(), v.end());
+    const double p99 = st.count ? st.p99_s * 1e3 : NAN, max = st.count ? st.max_s * 1e3 : NAN;
     std::printf("%-6d %-9.1f %-9zu %-12.3f %-12.3f %-13.1f %-12.1f\n", w, w * o.window_minutes,
-                v.size(), p99, max, bench_mb, dut_mb);
-    out << w << ',' << w * o.window_minutes << ',' << v.size() << ',' << p99 << ',' << max << ','
+                st.count, p99, max, bench_mb, dut_mb);
+    out << w << ',' << w * o.window_minutes << ',' << st.count << ',' << p99 << ',' << max << ','
         << bench_mb << ',' << dut_mb << '\n';
   }
   // Growth: from the first sample of the second window (or the first sample) to the last.
