@@ -53,6 +53,22 @@ std::string timing(const RunFolder& f) {
     }
     h += "</table>\n";
   }
+  const auto& restarts = get_array(dut, "restarts");
+  if (!restarts.empty()) {
+    h += "<table>\n" + header_row({"DUT off at [s]", "how it ended", "on again at [s]",
+                                   "first solution at [s]", "first valid at [s]",
+                                   "recovery [s]", "triggers unanswered"});
+    for (const auto& r : restarts) {
+      h += row({fixed(get_number(r, "off_s")), html_escape(get_string(r, "ended", "")),
+                fixed(get_number(r, "on_s")) +
+                    (get_bool(r, "started_again").value_or(true) ? "" : " (the run ended first)"),
+                fixed(get_number(r, "first_solution_s")),
+                fixed(get_number(r, "first_valid_s")), fixed(get_number(r, "recovery_s")),
+                num(get_number(r, "triggers_in_gap"), 10)},
+               "ntnnnnn");
+    }
+    h += "</table>\n";
+  }
   for (const auto& c : get_array(s, "logs_cut")) {
     h += "<p class=\"note\">" + html_escape(get_string(c, "file", "?")) +
          " was cut at its limit of " + num(get_number(c, "limit_bytes"), 10) + " bytes: " +

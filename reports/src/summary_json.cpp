@@ -134,6 +134,18 @@ void write_summary(const RunRecord& r, const std::string& dir) {
   for (const auto& m : r.malformed_examples) {
     j["dut"]["malformed_examples"].push_back({{"rx_s", m.rx_s}, {"text", m.text}, {"why", m.why}});
   }
+  j["dut"]["restarts"] = json::array();
+  for (const auto& rs : r.restarts) {
+    const auto opt = [](const std::optional<double>& v) { return v ? json(*v) : json(nullptr); };
+    j["dut"]["restarts"].push_back({{"off_s", rs.off_s},
+                                    {"on_s", rs.on_s},
+                                    {"ended", rs.ended},
+                                    {"started_again", rs.started_again},
+                                    {"first_solution_s", opt(rs.first_solution_s)},
+                                    {"first_valid_s", opt(rs.first_valid_s)},
+                                    {"recovery_s", opt(rs.recovery_s)},
+                                    {"triggers_in_gap", rs.triggers_in_gap}});
+  }
   j["logs_cut"] = json::array();
   for (const auto& c : r.logs_cut) {
     j["logs_cut"].push_back(

@@ -58,6 +58,22 @@ std::string verdict_text(const RunRecord& r) {
     std::snprintf(line, sizeof line, "    malformed at t=%.3f s: ", m.rx_s);
     o << line << m.why << ": \"" << m.text << "\"\n";
   }
+  for (const auto& rs : r.restarts) {
+    std::snprintf(line, sizeof line, "  restart: off at t=%.2f s (%s), on at t=%.2f s: ", rs.off_s,
+                  rs.ended.c_str(), rs.on_s);
+    o << line;
+    if (!rs.started_again) {
+      std::snprintf(line, sizeof line, "the run ended before it");
+    } else if (rs.recovery_s) {
+      std::snprintf(line, sizeof line, "first valid solution %.3f s later", *rs.recovery_s);
+    } else if (rs.first_solution_s) {
+      std::snprintf(line, sizeof line, "solutions from t=%.2f s, none with a valid position",
+                    *rs.first_solution_s);
+    } else {
+      std::snprintf(line, sizeof line, "no solution after it");
+    }
+    o << line << "; " << rs.triggers_in_gap << " triggers unanswered in between\n";
+  }
   for (const auto& n : r.notes) o << "  note: " << n << '\n';
   for (const auto& c : r.logs_cut) {
     o << "  note: " << c.file << " was cut at its limit of " << byte_size(c.limit_bytes) << ": "

@@ -60,4 +60,9 @@ void Pty::flush_to_slave() const {
   (void)::poll(&p, 1, 0);
 }
 
+void Pty::discard_unread() const {
+  flush_to_slave();  // what is still on its way is discarded too
+  (void)::tcflush(slave_, TCIFLUSH);
+}
+
 }  // namespace nav::transport

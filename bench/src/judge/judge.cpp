@@ -8,6 +8,7 @@
 #include <optional>
 #include <unordered_map>
 
+#include "judge/restarts.hpp"
 #include "nav/common/units.hpp"
 
 namespace nav::bench {
@@ -123,6 +124,7 @@ Alignment align_answers(const std::vector<TriggerRecord>& triggers,
   const geodesy::LocalTangentPlane ltp(datum);
   Alignment out;
   out.first_rx.resize(triggers.size());
+  out.first_valid_rx.resize(triggers.size());
   // The triggers sent, by tag, in send order. Tags that wrap (an N2K SID, a wheel counter)
   // name several triggers: an answer names the latest one sent with its tag before it arrived
   // (the first one sent if it arrived before any, as a tag that never repeats always does).
@@ -144,6 +146,7 @@ Alignment align_answers(const std::vector<TriggerRecord>& triggers,
     auto& rx = out.first_rx[named];
     if (!rx) rx = a.rx;
     if (!a.solution.position_valid) continue;
+    if (!out.first_valid_rx[named]) out.first_valid_rx[named] = a.rx;
     const TriggerRecord& tr = triggers[named];
     const double t_s = to_seconds(tr.t_valid);
     const auto at = truth.at(t_s);
@@ -170,6 +173,8 @@ JudgeOutput judge(const JudgeInput& in) {
   const bool lockstep = sc.mode == TimeMode::kLockstep;
   JudgeOutput out;
   Alignment al = align_answers(in.triggers, in.answers, *in.truth, sc.datum);
+  detail::RestartGaps gaps = detail::restart_gaps(in, al);
+  out.restarts = std::move(gaps.rows);
   out.aligned = std::move(al.aligned);
   out.unmatched_answers = al.unmatched;
   const auto& first_rx = al.first_rx;
@@ -179,7 +184,7 @@ JudgeOutput judge(const JudgeInput& in) {
     if (c.kind == CheckKind::kDeadline) deadline = &c;
   }
   std::vector<double> latencies;
-  std::size_t misses = 0, unanswered = 0;
+  std::size_t misses = 0, unanswered = 0, in_gap = 0;
   std::optional<double> slowest_t;  // time of validity of the slowest (or an unanswered) trigger
   double slowest = -1.0;
   for (std::size_t i = 0; i < in.triggers.size(); ++i) {
@@ -189,7 +194,9 @@ JudgeOutput judge(const JudgeInput& in) {
     row.tag = tr.tag;
     row.t_valid_s = to_seconds(tr.t_valid);
     row.wire_end_s = to_seconds(tr.wire_end - in.t0);
-    if (first_rx[i]) {
+    if (gaps.in_gap[i]) {  // the DUT was off or starting again: nobody could answer it
+      ++in_gap;
+    } else if (first_rx[i]) {
       row.rx_s = to_seconds(*first_rx[i] - in.t0);
       const double lat = to_seconds(*first_rx[i] - tr.wire_end);
       latencies.push_back(lat);
@@ -259,7 +266,17 @@ JudgeOutput judge(const JudgeInput& in) {
                      fmt(" (%.0f unanswered; allowed %.0f)", static_cast<double>(unanswered),
                          c.max_misses) +
                      ", input " + c.input;
+          if (in_gap > 0) {
+            r.detail += fmt(", %.0f sent while the DUT restarted not counted",
+                            static_cast<double>(in_gap), 0.0);
+          }
         }
+        out.checks.push_back(r);
+        break;
+      }
+      case CheckKind::kRestartRecovery: {
+        reports::CheckResult r = check_result(c, c.max, "s");
+        detail::judge_restart_recovery(r, out.restarts, in.stopped_at_s);
         out.checks.push_back(r);
         break;
       }

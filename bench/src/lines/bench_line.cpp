@@ -41,4 +41,8 @@ void BenchLine::flush() const {
   if (const auto* p = std::get_if<transport::Pty>(&end_)) p->flush_to_slave();
 }
 
+void BenchLine::discard_unread() const {
+  if (const auto* p = std::get_if<transport::Pty>(&end_)) p->discard_unread();
+}
+
 }  // namespace nav::bench

@@ -36,6 +36,9 @@ class BenchLine {
   /// line (lockstep orders bytes across lines so; see Pty::flush_to_slave). A real line needs
   /// nothing.
   void flush() const;
+  /// A pty drops what the DUT has not read (it was off: on a real line those bytes reached a
+  /// dead UART and were lost). A real line or a bus needs nothing.
+  void discard_unread() const;
 
  private:
   explicit BenchLine(std::variant<std::string, transport::Pty, transport::SerialPort,

@@ -147,4 +147,20 @@ void DutProcess::stop(double grace_s) {
   if (pid_ > 0) end_group();
 }
 
+bool DutProcess::kill_now(double reap_s) {
+  if (pid_ <= 0) return true;
+  if (running()) {
+    ::kill(-pid_, SIGKILL);
+    const auto deadline =
+        std::chrono::steady_clock::now() + std::chrono::duration<double>(reap_s);
+    while (running() && std::chrono::steady_clock::now() < deadline) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    if (running()) return false;  // still ending (a process in uninterruptible sleep)
+  }
+  end_group();
+  pid_ = -1;  // done with: its pid, free again, may name another process later
+  return true;
+}
+
 }  // namespace nav::bench

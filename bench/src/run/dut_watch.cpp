@@ -65,7 +65,9 @@ void DutWatch::arm_watchdog() {
     if (ec || watchdog_->stopped) return;
     {
       const std::lock_guard<std::mutex> lock(mutex_);
-      if (!failed_) look(monotonic_now());  // once the verdict is in, no more looks
+      const Timestamp now = monotonic_now();
+      if (!failed_ && sc_.mode == TimeMode::kRealtime) apply_restarts(scenario_time(now));
+      if (!failed_) look(now);  // once the verdict is in, no more looks
     }
     for (auto& veh : vehicles_) veh.log_limit->enforce();  // until the DUTs stop
     arm_watchdog();
@@ -95,7 +97,9 @@ std::vector<std::string> DutWatch::argv_of(std::uint32_t v,
 void DutWatch::start(const std::vector<BenchLine>& lines, const std::filesystem::path& dir,
                      Timestamp t0, RunLog& log, std::uint64_t log_limit) {
   t0_ = t0;
+  lines_ = &lines;
   sent_ = std::make_unique<std::atomic<std::size_t>[]>(vehicles_.size());
+  off_ = std::make_unique<std::atomic<bool>[]>(vehicles_.size());
   for (std::uint32_t v = 0; v < vehicles_.size(); ++v) {
     Vehicle& veh = vehicles_[v];
     veh.sent_wire_ends.assign(veh.triggers.size(), Timestamp{});
@@ -169,6 +173,7 @@ void DutWatch::failed() {
 }
 
 bool DutWatch::vehicle_ok(Vehicle& veh, std::size_t sent, Timestamp now) {
+  if (off(veh)) return true;  // a restart fault: it is meant to be off
   if (!veh.proc->running()) {
     crashed_ = true;
     veh.failed = true;
@@ -179,11 +184,13 @@ bool DutWatch::vehicle_ok(Vehicle& veh, std::size_t sent, Timestamp now) {
   }
   // Hung: a trigger sent after the DUT's latest solution has waited longer than the
   // watchdog. A trigger the DUT rightly drops (it arrived damaged) is followed by solutions
-  // to later triggers, so it does not count.
+  // to later triggers, so it does not count; nor does one sent while it was off or starting
+  // again after a restart fault.
   const Timestamp last_answer = veh.reader->last_answer_time();
+  const Timestamp seen = std::max(last_answer, veh.watch_from);
   const auto sent_end = veh.sent_wire_ends.begin() + static_cast<std::ptrdiff_t>(sent);
   const auto waiting = std::partition_point(veh.sent_wire_ends.begin(), sent_end,
-                                            [&](Timestamp w) { return w <= last_answer; });
+                                            [&](Timestamp w) { return w <= seen; });
   if (waiting != sent_end && now - *waiting > veh.dut->watchdog) {
     char t[128];
     std::snprintf(t, sizeof t, "hung: no solution for %.1f s at t=%.3f s",
@@ -194,6 +201,87 @@ bool DutWatch::vehicle_ok(Vehicle& veh, std::size_t sent, Timestamp now) {
     veh.status = t;
     return false;
   }
+  return true;
+}
+
+bool DutWatch::off(const Vehicle& v) const {
+  return off_ && off_[static_cast<std::size_t>(&v - vehicles_.data())].load();
+}
+
+Duration DutWatch::restarts_due(Duration t) {
+  Duration startup{0};
+  loop_.call([&] {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    if (!failed_) startup = apply_restarts(t);
+  });
+  return startup;
+}
+
+Duration DutWatch::apply_restarts(Duration t) {
+  Duration startup{0};
+  for (std::uint32_t v = 0; v < vehicles_.size(); ++v) {
+    Vehicle& veh = vehicles_[v];
+    const auto& restarts = veh.dut->restarts;
+    while (veh.next_restart < restarts.size()) {
+      const DutRestart& r = restarts[veh.next_restart];
+      if (!off_[v] && t >= r.off) {
+        // A DUT that ended by itself crashed: the watchdog's look says so, not a restart.
+        if (!veh.proc->running()) break;
+        power_off(v, r);
+      } else if (off_[v] && t >= r.on) {
+        ++veh.next_restart;
+        if (!power_on(v, r)) {
+          failed();
+          return startup;
+        }
+        startup = std::max(startup, veh.dut->startup);
+      } else {
+        break;
+      }
+    }
+  }
+  return startup;
+}
+
+void DutWatch::power_off(std::uint32_t v, const DutRestart& r) {
+  Vehicle& veh = vehicles_[v];
+  RestartRecord rec{r.off, r.on, monotonic_now(), Timestamp{}, {}};
+  off_[v] = true;
+  rec.ended = veh.proc->kill_now() ? veh.proc->exit_description()
+                                   : std::string("killed (SIGKILL), not reaped within 2 s");
+  veh.reader->drop_unfinished();
+  veh.restarts.push_back(std::move(rec));
+}
+
+bool DutWatch::power_on(std::uint32_t v, const DutRestart& r) {
+  Vehicle& veh = vehicles_[v];
+  // What its lines hold unread was sent to a DUT that was off: a real line lost it.
+  for (std::size_t d = 0; d < devices_.size(); ++d) {
+    if (devices_[d].vehicle == v) (*lines_)[d].discard_unread();
+  }
+  const std::string& log = veh.log_limit->path();
+  if (std::FILE* fp = std::fopen(log.c_str(), "a")) {
+    std::fprintf(fp,
+                 "navbench: restart fault: the DUT was killed (SIGKILL to its process group) "
+                 "at t=%.3f s and is started again at t=%.3f s\n",
+                 to_seconds(r.off), to_seconds(r.on));
+    std::fclose(fp);
+  }
+  RestartRecord& rec = veh.restarts.back();
+  auto dut = DutProcess::start(veh.argv, log);
+  if (!dut) {
+    crashed_ = true;
+    veh.failed = true;
+    char t[64];
+    std::snprintf(t, sizeof t, " at t=%.3f s", to_seconds(r.on));
+    veh.status = "could not be started again" + std::string(t) + " (restart fault): " +
+                 dut.error().detail;
+    return false;
+  }
+  veh.proc = std::make_unique<DutProcess>(std::move(*dut));
+  rec.started = monotonic_now();
+  veh.watch_from = rec.started + veh.dut->startup;
+  off_[v] = false;
   return true;
 }
 
@@ -252,13 +340,22 @@ void DutWatch::finish(const std::vector<std::size_t>& suppressed) {
   if (stop_) stopped_at_ = std::min(scenario_time(monotonic_now()), sc_.duration);
   for (auto& veh : vehicles_) {
     const bool alive = !crashed_ && !hung_ && veh.proc->running();
-    if (alive && stopped_at_) {
+    if (off(veh)) {
+      char t[128];
+      std::snprintf(t, sizeof t, "off since t=%.2f s (restart fault) when the run %s",
+                    to_seconds(veh.restarts.back().off_at), stopped_at_ ? "was stopped" : "ended");
+      veh.status = t;
+    } else if (alive && stopped_at_) {
       char t[96];
       std::snprintf(t, sizeof t, "alive when the run was stopped at t=%.2f s (pid %d)",
                     to_seconds(*stopped_at_), static_cast<int>(veh.proc->pid()));
       veh.status = t;
     } else if (alive) {
       veh.status = "alive until the end (pid " + std::to_string(veh.proc->pid()) + ")";
+    }
+    if (alive && !veh.restarts.empty()) {
+      veh.status += "; started again " + std::to_string(veh.restarts.size()) +
+                    (veh.restarts.size() == 1 ? " time" : " times") + " by restart faults";
     }
     const bool commanded = device_kind(devices_[veh.trigger_device].spec).commanded;
     if (alive && veh.triggers_sent == 0 && !veh.triggers.empty() && commanded &&
@@ -270,7 +367,8 @@ void DutWatch::finish(const std::vector<std::size_t>& suppressed) {
     }
   }
   Vehicle& primary = vehicles_.front();
-  primary_alive_ = !crashed_ && !hung_ && primary.proc->running();
+  // Off by a restart fault when the run ended is not dead: the bench turned it off.
+  primary_alive_ = !crashed_ && !hung_ && (primary.proc->running() || off(primary));
   if (primary.status.empty() && !primary.failed && primary.proc->running()) {
     primary.status = "alive (pid " + std::to_string(primary.proc->pid()) + ")";
   }

@@ -9,6 +9,10 @@
 //            then wakes every wait of the player (news, the loop's wait) at once
 //   ok():    the watchdog's verdict so far; the player looks at its own points (lockstep
 //            stops at the barrier of the trigger the DUT did not answer)
+//   restarts_due(t): the restart faults due by scenario time t (dut.faults), on the loop: the
+//            DUT's group killed with SIGKILL at `from`, the unfinished line it left dropped;
+//            at `to` what its lines hold unread discarded and its command started again;
+//            the watchdog does not wait for triggers sent before the new DUT's startup ended
 //   drain(): after the last message, on the event loop: done at the answer to each DUT's last
 //            trigger (the readers poke it), or at the deadline timer one watchdog on, or at
 //            a crash or a signal (looked at every 5 ms)
@@ -58,6 +62,11 @@ struct Vehicle {
   /// Lockstep: answers naming each trigger tag the DUT may give so far (1 per trigger, one
   /// more per copy a `stuck` fault sent).
   std::unordered_map<std::uint64_t, std::size_t> answers_expected;
+  /// Restart faults (dut->restarts): the next one due and what each did.
+  std::size_t next_restart = 0;
+  std::vector<RestartRecord> restarts;
+  /// Triggers sent before this are not waited for: the DUT was off, or starting again.
+  Timestamp watch_from{};
   bool failed = false;  ///< crashed or hung (watched)
   bool never_commanded = false;  ///< alive, but it never sent its trigger device's start command
   std::string status;   ///< (watched)
@@ -100,6 +109,13 @@ class DutWatch {
   /// the clock's).
   void at_scenario_time(Duration t) { scenario_ns_.store(t.count(), std::memory_order_relaxed); }
 
+  /// Powers off and starts again the DUTs whose restart faults are due by scenario time t (on
+  /// the loop; realtime: the watchdog calls it, lockstep: the player, before each write).
+  /// Returns the longest startup of a DUT it started again (0: none).
+  Duration restarts_due(Duration t);
+  /// Whether vehicle v's DUT is off (between a restart fault's power-off and its restart).
+  bool off(const Vehicle& v) const;
+
   /// A trigger of vehicle v has left (its wire_end set): the watchdog waits for its answer.
   void note_trigger_sent(Vehicle& v, const TriggerRecord& tr);
 
@@ -132,6 +148,11 @@ class DutWatch {
   bool vehicle_ok(Vehicle& veh, std::size_t sent, Timestamp now);
   /// Under mutex_: the verdict is in; every wait of the player ends.
   void failed();
+  /// On the loop, under mutex_: restarts_due().
+  Duration apply_restarts(Duration t);
+  void power_off(std::uint32_t v, const DutRestart& r);
+  /// False (and the vehicle failed) when the command could not be started again.
+  bool power_on(std::uint32_t v, const DutRestart& r);
   std::vector<std::string> argv_of(std::uint32_t v, const std::vector<BenchLine>& lines) const;
 
   const Scenario& sc_;
@@ -142,6 +163,9 @@ class DutWatch {
   std::vector<Vehicle> vehicles_;
   std::optional<Duration> stopped_at_;
   Timestamp t0_{};
+  const std::vector<BenchLine>* lines_ = nullptr;  ///< set by start()
+  /// Per vehicle: its DUT is off (a restart fault), read by the player without the lock.
+  std::unique_ptr<std::atomic<bool>[]> off_;
   /// Per vehicle: how many of its sent_wire_ends are set (release by the player, acquire by
   /// the watchdog: no lock per trigger).
   std::unique_ptr<std::atomic<std::size_t>[]> sent_;

@@ -88,13 +88,30 @@ void OutputReader::read_next() {
       });
 }
 
-void OutputReader::finish() {
-  // Whatever arrived before stop() was called is read here; the capture is flushed.
+void OutputReader::read_buffered() {
+  // A non-blocking read of a pty first waits for the kernel's pending flush of what the
+  // other side wrote (n_tty_read runs tty_buffer_flush_work when it finds nothing).
   for (;;) {
     const ssize_t n = ::read(fd_, io_->chunk.data(), io_->chunk.size());
     if (n <= 0) break;  // EAGAIN: drained; EIO: no writer at the moment
     on_read(io_->chunk.data(), static_cast<std::size_t>(n), monotonic_now());
   }
+}
+
+std::size_t OutputReader::drop_unfinished() {
+  std::size_t dropped = 0;
+  io_->loop.call([&] {
+    read_buffered();
+    const std::lock_guard lock(mutex_);
+    dropped = buffer_.size();
+    buffer_.clear();
+  });
+  return dropped;
+}
+
+void OutputReader::finish() {
+  // Whatever arrived before stop() was called is read here; the capture is flushed.
+  read_buffered();
   capture_->flush();
   (void)io_->descriptor.release();
   io_->stopped.set_value();

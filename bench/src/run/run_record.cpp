@@ -96,6 +96,7 @@ reports::RunRecord make_run_record(const RunFacts& f, const RunIdentity& id) {
   JudgeInput in{&sc, &table, primary.triggers, primary.reader->answers(), f.t0,
                 f.watch.primary_alive(), dut_status};
   if (const auto stopped = f.watch.stopped_at()) in.stopped_at_s = to_seconds(*stopped);
+  in.restarts = primary.restarts;
   JudgeOutput j = judge(in);
 
   reports::RunRecord rec;
@@ -153,6 +154,10 @@ reports::RunRecord make_run_record(const RunFacts& f, const RunIdentity& id) {
   for (std::uint32_t d = 0; d < f.devices.size(); ++d) rec.devices.push_back(device_row(f, d));
   if (sc.can) rec.can_buses.push_back(can_bus_row(f));
   add_faults(f, rec);
+  rec.restarts = std::move(j.restarts);
+  for (const auto& r : rec.restarts) {
+    rec.faults.push_back({"dut", "restart", r.off_s, r.on_s, r.triggers_in_gap});
+  }
   for (std::size_t v = 1; v < vehicles.size(); ++v) {
     const auto& veh = vehicles[v];
     reports::PeerRow peer;

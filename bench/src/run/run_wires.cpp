@@ -91,7 +91,10 @@ void RunWires::send_can_due(Duration t, const std::function<void(Duration)>& wai
   // t) and, in lockstep, with a polled device's answers due before each frame.
   const auto before = [&](Duration due) {
     wait(due);
-    if (lockstep_) p_.reactive->send_due_answers(due);
+    if (lockstep_) {
+      restarts_due(due);
+      p_.reactive->send_due_answers(due);
+    }
   };
   const auto after = [&](std::size_t i, bool sent) { return frame_done(i, sent); };
   if (!p_.can->send_due(t, before, p_.watch->max_watchdog(), *p_.stop, after)) failed_ = true;
@@ -109,6 +112,7 @@ bool RunWires::trigger_sent(Vehicle& veh, TriggerRecord& tr, Timestamp wire_end)
   tr.sent = true;
   tr.wire_end = wire_end;
   p_.watch->note_trigger_sent(veh, tr);
+  if (p_.watch->off(veh)) return true;  // nobody to answer it
   // Answers naming this tag the DUT owes so far: a tag that wrapped counts again.
   ++veh.answers_expected[tr.tag];
   return !lockstep_ || barrier(veh, tr);
@@ -123,10 +127,22 @@ void RunWires::progress(Duration scenario_t) {
                veh.triggers_sent);
 }
 
+void RunWires::restarts_due(Duration t) {
+  const Duration startup = p_.watch->restarts_due(t);
+  if (startup <= Duration{0}) return;
+  // As at the first start: the DUT opens its ports before anything more is written.
+  const Timestamp end = monotonic_now() + startup;
+  for (Timestamp now = monotonic_now(); now < end && !*p_.stop && p_.watch->ok();
+       now = monotonic_now()) {
+    p_.reactive->news().wait_until(std::min(end, now + kWaitSlice), *p_.stop);
+  }
+}
+
 bool RunWires::go_on(Duration t) {
   // Lockstep stops at the barrier of the trigger a failed DUT did not answer; realtime at
   // the next write after the watchdog's verdict.
   p_.watch->at_scenario_time(t);
+  if (lockstep_) restarts_due(t);
   if (!lockstep_ && !p_.watch->ok()) return false;
   progress(t);
   return true;
@@ -165,7 +181,7 @@ std::size_t RunWires::write(std::uint32_t k, std::uint32_t offset, std::uint32_t
   const ScheduledMessage& m = schedule_.messages[k];
   const std::uint8_t* data = message(m).bytes.data() + offset;
   const int fd = (*p_.lines)[m.device].fd();
-  if (!lockstep) {
+  if (!lockstep || p_.watch->off(p_.watch->vehicle_of(m.device))) {
     // A serial line never blocks: bytes the DUT does not take are lost, like a UART overrun.
     const ssize_t n = ::write(fd, data, length);
     return n > 0 ? static_cast<std::size_t>(n) : 0;
@@ -207,7 +223,7 @@ bool RunWires::done(std::uint32_t k, Timestamp first, Timestamp end) {
     if (!lockstep_) return true;
     // Readable by the DUT before anything later is written, on any line or the CAN bus.
     (*p_.lines)[m.device].flush();
-    return wait_for_repeat_answer(veh, m);
+    return p_.watch->off(veh) || wait_for_repeat_answer(veh, m);
   }
   return trigger_sent(veh, trigger_record(k), lockstep_ ? monotonic_now() : end);
 }

@@ -9,7 +9,10 @@
 //             on its line while the DUT lives; after a trigger, serial message or CAN frame,
 //             nothing more is written on any line or bus until its DUT answered it (the
 //             barrier), after a stuck copy of a trigger until the DUT answered that copy (or
-//             one watchdog period).
+//             one watchdog period); a restart fault is done by the player before the
+//             write it precedes, and the restarted DUT is given its startup (dut_watch.hpp).
+//   both:     while a DUT is off (a restart fault) nothing waits for it: its triggers and
+//             messages are written once, what its lines do not take is lost.
 //
 // Triggers are named as their device's kind says (DeviceKind::trigger): a serial message by
 // its tag given the LF bytes its line carried before it, a CAN frame by its own bytes.
@@ -98,6 +101,8 @@ class RunWires final : public PlayHost {
   bool barrier(Vehicle& veh, const TriggerRecord& tr);
   bool wait_for_repeat_answer(Vehicle& veh, const ScheduledMessage& m);
   void progress(Duration scenario_t);
+  /// Lockstep: the restart faults due by scenario time t, and the startup of a DUT started.
+  void restarts_due(Duration t);
 
   Parts p_;
   bool lockstep_;

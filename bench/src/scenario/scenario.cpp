@@ -96,8 +96,39 @@ void check_placeholders(const Field& arg, const std::string& text, const Scenari
   }
 }
 
+/// `dut.faults`: restarts, in time order, each window after the one before.
+void read_dut_faults(const Field& f, Scenario& s) {
+  char buf[200];
+  for (const Field& item : f.list("a list of DUT faults ({kind: restart, from, to})", 0)) {
+    if (!item.node().IsMap()) item.fail("expected a fault map, got " + what_is(item.node()));
+    const MapReader m(item, {"kind", "from", "to"});
+    m.required("kind").choice<int>({{"restart", 0}});
+    const Field from = m.required("from");
+    const Field to = m.required("to");
+    DutRestart r{from.duration(Bound::kPositive), to.duration(Bound::kPositive)};
+    if (r.on <= r.off) {
+      std::snprintf(buf, sizeof buf, "expected the restart after the power-off (from %g s), got '%s'",
+                    to_seconds(r.off), to.node().Scalar().c_str());
+      to.fail(buf);
+    }
+    if (r.on >= s.duration) {
+      std::snprintf(buf, sizeof buf,
+                    "expected a restart before the end of the scenario (duration %g s), got '%s'",
+                    to_seconds(s.duration), to.node().Scalar().c_str());
+      to.fail(buf);
+    }
+    if (!s.dut.restarts.empty() && r.off < s.dut.restarts.back().on) {
+      std::snprintf(buf, sizeof buf,
+                    "expected a power-off after the previous restart (at %g s), got '%s'",
+                    to_seconds(s.dut.restarts.back().on), from.node().Scalar().c_str());
+      from.fail(buf);
+    }
+    s.dut.restarts.push_back(r);
+  }
+}
+
 void read_dut(const Field& f, Scenario& s) {
-  const MapReader m(f, {"command", "output", "trigger", "startup", "watchdog"});
+  const MapReader m(f, {"command", "output", "trigger", "startup", "watchdog", "faults"});
   DutSpec& dut = s.dut;
   for (const Field& arg : m.required("command").list("the DUT's argv as a list", 1)) {
     const std::string text = arg.text("a command-line argument");
@@ -134,6 +165,7 @@ void read_dut(const Field& f, Scenario& s) {
   }
   if (auto v = m.optional("startup")) dut.startup = v->duration(Bound::kNonNegative);
   if (auto v = m.optional("watchdog")) dut.watchdog = v->duration(Bound::kPositive);
+  if (auto v = m.optional("faults")) read_dut_faults(*v, s);
 }
 
 std::size_t count_modems(const std::vector<DeviceSpec>& devices) {

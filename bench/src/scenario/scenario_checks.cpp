@@ -26,7 +26,8 @@ const std::vector<std::pair<std::string, CheckSpec::Kind>>& check_kinds() {
       {"attitude_error", Kind::kAttitudeError},
       {"endpoint_error", Kind::kEndpointError},
       {"deadline", Kind::kDeadline},
-      {"dut_alive", Kind::kDutAlive}};
+      {"dut_alive", Kind::kDutAlive},
+      {"restart_recovery", Kind::kRestartRecovery}};
   return kinds;
 }
 
@@ -48,6 +49,7 @@ CheckSpec read_check(const Field& item, const Scenario& s) {
     case Kind::kEndpointError: keys.insert(keys.end(), {"max"}); break;
     case Kind::kDeadline: keys.insert(keys.end(), {"input", "max_latency", "max_misses"}); break;
     case Kind::kDutAlive: break;
+    case Kind::kRestartRecovery: keys.insert(keys.end(), {"max"}); break;
   }
   const MapReader m(item, keys);
   if (auto v = m.optional("name")) c.name = v->identifier();
@@ -74,6 +76,13 @@ CheckSpec read_check(const Field& item, const Scenario& s) {
       break;
     }
     case Kind::kDutAlive: break;
+    case Kind::kRestartRecovery:
+      if (s.dut.restarts.empty()) {
+        kind_field->fail("a restart_recovery check needs a restart in dut.faults "
+                         "({kind: restart, from: ..., to: ...})");
+      }
+      c.max = to_seconds(m.required("max").duration(Bound::kPositive));
+      break;
   }
   if (auto v = m.optional("per_distance")) c.max_per_distance = v->ratio();
   if (auto v = m.optional("after")) {

@@ -186,5 +186,79 @@ TEST_F(JudgeFixture, ATagThatWrapsNamesTheLatestTriggerSentWithItBeforeTheAnswer
   EXPECT_DOUBLE_EQ(al.aligned[1].t_s, 3.0);  // judged at the second trigger's time
 }
 
+/// A DUT answering triggers every 0.1 s from t=1 s in 2 ms, killed by a restart fault at
+/// t=2 s and started again at t=2.5 s; from t=2.6 s it answers again, with a valid position
+/// from `valid_from` on (never when negative).
+struct RestartedDut {
+  JudgeInput in;
+  explicit RestartedDut(const JudgeFixture& f, double valid_from) {
+    in.scenario = &f.sc;
+    in.truth = f.table.get();
+    in.t0 = Timestamp{1'000'000'000};
+    in.restarts.push_back({2s, 2500ms, in.t0 + 2s, in.t0 + 2500ms, "killed by signal 9"});
+    for (std::uint64_t k = 0; k <= 30; ++k) {
+      const Duration t = 1s + 100ms * static_cast<std::int64_t>(k);
+      in.triggers.push_back({k, t, true, in.t0 + t});
+      const double t_s = to_seconds(t);
+      if (t_s > 1.95 && t_s < 2.55) continue;  // off, or not yet reading its ports
+      Answer a = f.answer_at(k, t_s, Vec3::Zero(), in.t0 + t + 2ms);
+      a.solution.position_valid = t_s < 1.95 || (valid_from >= 0 && t_s > valid_from - 0.01);
+      in.answers.push_back(a);
+    }
+  }
+};
+
+TEST_F(JudgeFixture, ARestartIsMeasuredToItsFirstValidSolutionAndItsGapIsNoDeadlineMiss) {
+  sc.checks = {{CheckSpec::Kind::kDeadline, 0.010, 0.0, 0s, "ahrs", 0, "deadline"},
+               {CheckSpec::Kind::kRestartRecovery, 0.5, 0.0, 0s, "", 0, "recovery"},
+               {CheckSpec::Kind::kRestartRecovery, 0.2, 0.0, 0s, "", 0, "tight"}};
+  const RestartedDut dut(*this, 2.8);
+  const auto out = judge(dut.in);
+  ASSERT_EQ(out.restarts.size(), 1u);
+  const auto& r = out.restarts[0];
+  EXPECT_DOUBLE_EQ(r.off_s, 2.0);
+  EXPECT_DOUBLE_EQ(r.on_s, 2.5);
+  EXPECT_EQ(r.ended, "killed by signal 9");
+  ASSERT_TRUE(r.first_solution_s && r.first_valid_s && r.recovery_s);
+  EXPECT_NEAR(*r.first_solution_s, 2.602, 1e-9);  // realtime: when it arrived
+  EXPECT_NEAR(*r.first_valid_s, 2.802, 1e-9);
+  EXPECT_NEAR(*r.recovery_s, 0.302, 1e-9);
+  // Triggers at 2.0 ... 2.5 s: after its last solution (1.9 s), before its first (2.6 s).
+  EXPECT_EQ(r.triggers_in_gap, 6u);
+  EXPECT_TRUE(out.checks[0].passed) << out.checks[0].detail;
+  EXPECT_NE(out.checks[0].detail.find("6 sent while the DUT restarted not counted"),
+            std::string::npos) << out.checks[0].detail;
+  EXPECT_TRUE(out.checks[1].passed) << out.checks[1].detail;
+  EXPECT_NEAR(out.checks[1].value, 0.302, 1e-9);
+  EXPECT_EQ(out.checks[1].worst_t_s, 2.5);
+  EXPECT_FALSE(out.checks[2].passed);
+}
+
+TEST_F(JudgeFixture, InLockstepARestartsRecoveryIsInTheTimeOfTheTriggersAnswered) {
+  sc.mode = TimeMode::kLockstep;
+  const RestartedDut dut(*this, 2.8);
+  const auto out = judge(dut.in);
+  ASSERT_EQ(out.restarts.size(), 1u);
+  ASSERT_TRUE(out.restarts[0].recovery_s);
+  EXPECT_NEAR(*out.restarts[0].first_solution_s, 2.6, 1e-9);
+  EXPECT_NEAR(*out.restarts[0].recovery_s, 0.3, 1e-9);
+}
+
+TEST_F(JudgeFixture, ARestartWithoutAValidSolutionAfterItFailsItsRecoveryCheck) {
+  sc.checks = {{CheckSpec::Kind::kRestartRecovery, 5.0, 0.0, 0s, "", 0, "recovery"}};
+  const RestartedDut dut(*this, -1.0);
+  const auto out = judge(dut.in);
+  ASSERT_EQ(out.restarts.size(), 1u);
+  EXPECT_TRUE(out.restarts[0].first_solution_s.has_value());  // it answered, never valid
+  EXPECT_FALSE(out.restarts[0].recovery_s.has_value());
+  EXPECT_FALSE(out.checks[0].passed);
+  EXPECT_EQ(out.checks[0].detail, "no valid solution after the restart at t=2.50 s");
+  // A run stopped before the DUT recovered does not judge it.
+  auto stopped = dut.in;
+  stopped.stopped_at_s = 2.7;
+  const auto s = judge(stopped);
+  EXPECT_FALSE(s.checks[0].judged);
+}
+
 }  // namespace
 }  // namespace nav::bench

@@ -47,6 +47,10 @@ class DutProcess {
   /// SIGTERM to its process group, then SIGKILL after grace; returns once the child is
   /// reaped and no process of its group is left.
   void stop(double grace_s = 2.0);
+  /// SIGKILL to its process group at once, as a power cut ends a computer; returns once the
+  /// child is reaped (at most `reap_s` later: false if it was not) and the group is gone.
+  /// After it, pid() is -1 and exit_description() says how the child ended.
+  bool kill_now(double reap_s = 2.0);
 
   /// Resolves a program name the way start() does; nullopt when not found.
   static std::optional<std::string> resolve(const std::string& program);

@@ -23,6 +23,14 @@ struct TriggerRecord {
   Timestamp wire_end{};    ///< CLOCK_MONOTONIC when its last byte was written
 };
 
+/// A restart of the DUT (a `restart` fault of dut.faults), as it happened.
+struct RestartRecord {
+  Duration off_at{}, on_at{};  ///< scenario times of the power-off and of the restart
+  Timestamp killed{};          ///< CLOCK_MONOTONIC when its group was killed
+  Timestamp started{};         ///< CLOCK_MONOTONIC when it was started again (0: it was not)
+  std::string ended;           ///< how the killed process ended
+};
+
 /// Truth sampled at a fixed rate, interpolated linearly (position, velocity, distance) and
 /// by slerp (attitude) in between.
 class TruthTable {
@@ -47,6 +55,7 @@ struct JudgeInput {
   std::string dut_status;
   /// The scenario time a signal stopped the run at; none for a run that reached its end.
   std::optional<double> stopped_at_s{};
+  std::vector<RestartRecord> restarts{};  ///< the DUT's restarts, in time order
 };
 
 struct JudgeOutput {
@@ -55,6 +64,7 @@ struct JudgeOutput {
   std::vector<reports::LatencyRow> latency;
   reports::Stats dut_latency;
   std::size_t unmatched_answers = 0;
+  std::vector<reports::RestartRow> restarts;  ///< one per JudgeInput::restarts
 };
 
 JudgeOutput judge(const JudgeInput& in);
@@ -63,6 +73,8 @@ JudgeOutput judge(const JudgeInput& in);
 struct Alignment {
   std::vector<reports::AlignedSample> aligned;  ///< valid positions, by time of validity
   std::vector<std::optional<Timestamp>> first_rx;  ///< per trigger: its first answer's arrival
+  /// Per trigger: the arrival of its first answer with a valid position.
+  std::vector<std::optional<Timestamp>> first_valid_rx;
   std::size_t unmatched = 0;  ///< answers naming no trigger that was sent
 };
 

@@ -45,6 +45,10 @@ class OutputReader {
   void start();
   /// Stops reading after reading what is already buffered.
   void stop();
+  /// The writer is gone (a DUT killed by a restart fault): reads what it wrote, then drops
+  /// the unfinished line it left, which the next writer's first line must not be glued to.
+  /// Returns how many bytes were dropped.
+  std::size_t drop_unfinished();
   /// Called on the event loop after a read that completed answers (null: none).
   void set_on_answer(std::function<void()> f);
 
@@ -64,6 +68,8 @@ class OutputReader {
   struct Io;
   void read_next();
   void finish();
+  /// On the loop: reads what the fd holds now.
+  void read_buffered();
   /// On the loop: the bytes of one read, received at rx.
   void on_read(const std::uint8_t* data, std::size_t n, Timestamp rx);
   void consume(Timestamp rx);

@@ -55,6 +55,13 @@ struct DeviceSpec {
   std::vector<emulators::FaultSpec> faults;
 };
 
+/// A `restart` fault of the DUT (dut.faults): the bench kills its process group with SIGKILL
+/// at scenario time `off` (power lost) and starts the same command again at `on`.
+struct DutRestart {
+  Duration off{};
+  Duration on{};
+};
+
 /// The DUT and how to talk to it.
 struct DutSpec {
   /// argv; "{port:NAME}" is replaced by NAME's port path when the run starts.
@@ -65,14 +72,15 @@ struct DutSpec {
   std::string trigger;               ///< device whose messages the DUT answers
   Duration startup{std::chrono::milliseconds(500)};  ///< wait before scenario time 0
   Duration watchdog{std::chrono::seconds(2)};        ///< no answer this long = hung
+  std::vector<DutRestart> restarts;  ///< in time order, windows apart (dut.faults)
 };
 
 /// One check of the DUT's output against truth.
 struct CheckSpec {
   enum class Kind { kHorizontalError, kVerticalError, kAttitudeError, kEndpointError,
-                    kDeadline, kDutAlive };
+                    kDeadline, kDutAlive, kRestartRecovery };
   Kind kind = Kind::kHorizontalError;
-  double max = 0.0;            ///< limit [m], [rad] or, for deadline, latency [s]
+  double max = 0.0;  ///< limit [m], [rad]; deadline: latency [s]; restart_recovery: time [s]
   double max_per_distance = 0.0;  ///< envelope grows with distance travelled [m/m] (errors)
   Duration after{0};           ///< judged only from this scenario time on
   std::string input;           ///< deadline: the trigger device

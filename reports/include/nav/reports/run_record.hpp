@@ -162,6 +162,22 @@ inline constexpr std::size_t kMalformedTextBytes = 48;
 /// Malformed pieces of output a run keeps, the first ones.
 inline constexpr std::size_t kMalformedExamples = 5;
 
+/// A restart of the DUT (a `restart` fault of the scenario's dut.faults) and how long the
+/// DUT took to give a valid solution again. Times are scenario times [s]: in realtime when a
+/// solution arrived, in lockstep the time of validity of the trigger it answered.
+struct RestartRow {
+  double off_s = 0.0;  ///< its process group killed (SIGKILL), as a power cut
+  double on_s = 0.0;   ///< its command started again
+  std::string ended;   ///< how the killed process ended ("killed by signal 9 (Killed)")
+  bool started_again = true;  ///< false: the run ended (a signal) before on_s
+  std::optional<double> first_solution_s;  ///< its first solution after on_s, if any
+  std::optional<double> first_valid_s;     ///< its first solution with a valid position
+  std::optional<double> recovery_s;        ///< first_valid_s − on_s
+  /// Triggers sent between its last solution before the power-off and its first after the
+  /// restart: nobody could answer them, and a deadline check does not count them.
+  std::size_t triggers_in_gap = 0;
+};
+
 /// A log a DUT filled past navbench's limit (`navbench run --log-limit`).
 struct LogCut {
   std::string file;              ///< "capture-rx.log", "dut.log", ...
@@ -201,6 +217,7 @@ struct RunRecord {
   std::size_t triggers_sent = 0, answers = 0, unmatched_answers = 0, malformed_output = 0;
   std::vector<MalformedOutput> malformed_examples;  ///< the first malformed pieces of output
   std::vector<LogCut> logs_cut;                     ///< logs the DUTs filled past the limit
+  std::vector<RestartRow> restarts;                 ///< the primary DUT's restart faults
   std::vector<CheckResult> checks;
   Stats bench_lateness;             ///< realtime only (count 0 in lockstep)
   double lateness_budget_p99_s = 0.0;

@@ -28,6 +28,9 @@ class Pty {
   /// master reach the slave through a kernel work queue; polling the slave (which the bench
   /// keeps open) waits for that work. Lockstep uses it to order bytes across ports.
   void flush_to_slave() const;
+  /// Discards what was written to the master and not yet read from the slave (tcflush of the
+  /// slave's input): bytes sent while no DUT was there to read them.
+  void discard_unread() const;
 
  private:
   Pty() = default;
