@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace nav::reports {
 
@@ -44,6 +45,30 @@ std::vector<std::size_t> decimate_min_max(const std::vector<double>& x,
     i = j;
   }
   return keep;
+}
+
+std::size_t break_gaps(std::vector<double>& x, const std::vector<std::vector<double>*>& ys,
+                       double min_gap) {
+  if (x.size() < 3) return 0;
+  std::vector<double> dx;
+  for (std::size_t i = 1; i < x.size(); ++i) dx.push_back(x[i] - x[i - 1]);
+  std::nth_element(dx.begin(), dx.begin() + static_cast<std::ptrdiff_t>(dx.size() / 2), dx.end());
+  const double gap = std::max(10.0 * dx[dx.size() / 2], min_gap);
+  std::vector<double> nx;
+  std::vector<std::vector<double>> ny(ys.size());
+  nx.reserve(x.size());
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    if (i > 0 && x[i] - x[i - 1] > gap) {
+      nx.push_back(0.5 * (x[i - 1] + x[i]));
+      for (auto& y : ny) y.push_back(std::numeric_limits<double>::quiet_NaN());
+    }
+    nx.push_back(x[i]);
+    for (std::size_t k = 0; k < ys.size(); ++k) ny[k].push_back((*ys[k])[i]);
+  }
+  const std::size_t inserted = nx.size() - x.size();
+  x = std::move(nx);
+  for (std::size_t k = 0; k < ys.size(); ++k) *ys[k] = std::move(ny[k]);
+  return inserted;
 }
 
 std::vector<double> pick(const std::vector<double>& v, const std::vector<std::size_t>& indices) {

@@ -58,7 +58,8 @@ json track_plot(const RunFolder& f, const std::vector<Window>& faults) {
       add_xy(p, {vehicle_label(v, "truth"), truth_color, "linear", v.primary ? 1.5 : 1.0}, c.e, c.n, keep);
     }
     if (v.has_estimate && !v.estimate.empty()) {
-      const Columns c = columns(v.estimate);
+      Columns c = columns(v.estimate);
+      break_gaps(c.t, {&c.n, &c.e, &c.d});
       const auto keep = decimate_min_max(c.t, {&c.n, &c.e}, kPlotBuckets);
       add_xy(p, {vehicle_label(v, "estimate"), est_color, "linear", 1.5}, c.e, c.n, keep);
       if (v.primary && !faults.empty()) {
@@ -98,9 +99,10 @@ json depth_plot(const RunFolder& f) {
   const auto& v = f.vehicles.front();
   for (const auto* poses : {&v.truth, &v.estimate}) {
     if (poses->empty()) continue;
-    const Columns c = columns(*poses);
-    const auto keep = decimate_min_max(c.t, {&c.d}, kPlotBuckets);
     const bool truth = poses == &v.truth;
+    Columns c = columns(*poses);
+    if (!truth) break_gaps(c.t, {&c.n, &c.e, &c.d});
+    const auto keep = decimate_min_max(c.t, {&c.d}, kPlotBuckets);
     add_xy(p, {truth ? "truth" : "estimate", truth ? color::kTruth : color::kEstimate}, c.t, c.d, keep);
   }
   return p;
@@ -128,9 +130,7 @@ std::string check_kind(const json& c) {
 json error_plot(const RunFolder& f, const Quantity& q, const json* check,
                 const std::vector<Window>& faults, const std::string& id) {
   const auto& ts = f.timeseries;
-  const auto& t = ts["t_s"];
-  const auto& v = ts[q.column];
-  const auto& dist = ts["distance_m"];
+  std::vector<double> t = ts["t_s"], v = ts[q.column], dist = ts["distance_m"];
   std::string title = q.name;
   if (check) {
     title += ": check " + get_string(*check, "name", "?");
@@ -142,6 +142,8 @@ json error_plot(const RunFolder& f, const Quantity& q, const json* check,
     p["note"] = "no solutions with a valid position";
     return p;
   }
+  dist.resize(t.size(), kNaN);
+  break_gaps(t, {&v, &dist});
   // The envelope of the check at each sample: null before `after` (not judged).
   std::vector<double> limit(t.size(), kNaN), over(t.size(), kNaN);
   std::size_t n_over = 0, judged = 0;

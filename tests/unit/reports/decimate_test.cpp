@@ -65,5 +65,28 @@ TEST(Decimate, AllEqualAbscissaIsOneBucket) {
   EXPECT_EQ(keep.back(), 49u);
 }
 
+TEST(BreakGaps, InsertsANaNSampleInEveryGapOfMoreThanTenSpacings) {
+  // 100 Hz, then nothing from 0.05 s to 1.5 s (a DUT off), then 100 Hz again.
+  std::vector<double> x{0.00, 0.01, 0.02, 0.03, 0.04, 0.05, 1.50, 1.51, 1.52};
+  std::vector<double> y{1, 2, 3, 4, 5, 6, 7, 8, 9};
+  EXPECT_EQ(break_gaps(x, {&y}), 1u);
+  ASSERT_EQ(x.size(), 10u);
+  ASSERT_EQ(y.size(), 10u);
+  EXPECT_DOUBLE_EQ(x[6], 0.775);
+  EXPECT_TRUE(std::isnan(y[6]));
+  EXPECT_EQ(y[5], 6);
+  EXPECT_EQ(y[7], 7);
+}
+
+TEST(BreakGaps, LeavesEvenlySpacedAndShortGappedSamplesAlone) {
+  std::vector<double> x{0.0, 0.01, 0.02, 0.03, 0.05, 0.06};  // a 20 ms gap: below 0.1 s
+  std::vector<double> y(x.size(), 1.0);
+  EXPECT_EQ(break_gaps(x, {&y}), 0u);
+  EXPECT_EQ(x.size(), 6u);
+  std::vector<double> slow{0, 1, 2, 3, 4, 5, 60};  // 1 Hz, then a gap of 55 s
+  std::vector<double> z(slow.size(), 2.0);
+  EXPECT_EQ(break_gaps(slow, {&z}), 1u);
+}
+
 }  // namespace
 }  // namespace nav::reports

@@ -18,6 +18,14 @@ std::vector<std::size_t> decimate_min_max(const std::vector<double>& x,
                                           const std::vector<const std::vector<double>*>& ys,
                                           std::size_t buckets);
 
+/// Where two consecutive samples are further apart in x than ten times the median spacing
+/// (and at least min_gap), inserts a sample halfway between them whose ys are all NaN: a plot
+/// then leaves a time without samples (a DUT off or restarting, an estimate without a
+/// position) empty instead of drawing a line across it. x: non-decreasing; every y the size
+/// of x. Returns how many samples it inserted.
+std::size_t break_gaps(std::vector<double>& x, const std::vector<std::vector<double>*>& ys,
+                       double min_gap = 0.1);
+
 /// v[i] for each index.
 std::vector<double> pick(const std::vector<double>& v, const std::vector<std::size_t>& indices);
 
