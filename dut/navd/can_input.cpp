@@ -31,6 +31,18 @@ void CanInput::feed(const protocols::can::Frame& frame) {
   ++frames_;
   if (frame.error) {
     ++rejects_.error_frames;
+    const auto r = protocols::can::error_report(frame);
+    if (r.classes & protocols::can::kErrBusOff) {
+      ++errors_.bus_off;
+      errors_.bus_is_off = true;
+    }
+    if (r.classes & protocols::can::kErrRestarted) {
+      ++errors_.restarted;
+      errors_.bus_is_off = false;
+    }
+    if (r.classes & protocols::can::kErrProtocol) ++errors_.protocol;
+    if (r.classes & protocols::can::kErrController) ++errors_.controller;
+    if (r.classes & protocols::can::kErrCounters) errors_.rx_errors = r.rx_errors;
     return;
   }
   if (frame.rtr) {
@@ -138,7 +150,11 @@ std::string CanInput::counters_text() const {
        ",fields=" + std::to_string(rejects_.fields) +
        ",fast_packet=" + std::to_string(rejects_.fast_packet) +
        ",fast_packet_dup=" + std::to_string(rejects_.fast_packet_dup) +
-       ",dbc=" + std::to_string(rejects_.dbc) + "}";
+       ",dbc=" + std::to_string(rejects_.dbc) + "} errors{bus_off=" +
+       std::to_string(errors_.bus_off) + ",restarted=" + std::to_string(errors_.restarted) +
+       ",protocol=" + std::to_string(errors_.protocol) +
+       ",controller=" + std::to_string(errors_.controller) +
+       ",rx_errors=" + std::to_string(errors_.rx_errors) + "}";
   return s;
 }
 

@@ -3,7 +3,7 @@
 // of one CAN bus. Pure (no I/O): navd_app.cpp reads the CanSocket and feeds can::Frame values;
 // main.cpp loads the DBC file and hands over the parsed database.
 //
-//   frame ──▶ RTR or error frame ──────────────────────────────▶ rejects.rtr / error_frames
+//   frame ──▶ RTR or error frame ────────────────▶ rejects.rtr / error_frames, errors by class
 //         ──▶ (id, format) is a message of the DBC ─▶ dbc::decode ─▶ count by message name
 //                 wheel encoder messages also through WheelEncoderCodec ─▶ last sample/wheel
 //                 (a frame that does not decode: rejects.dbc)
@@ -26,6 +26,7 @@
 #include <variant>
 
 #include "nav/common/result.hpp"
+#include "nav/protocols/can_error.hpp"
 #include "nav/protocols/can_frame.hpp"
 #include "nav/protocols/dbc.hpp"
 #include "nav/protocols/nmea2000.hpp"
@@ -44,6 +45,17 @@ struct CanRejects {
   std::uint64_t fast_packet = 0;
   std::uint64_t fast_packet_dup = 0;  ///< exact repeats of a fast-packet frame, ignored
   std::uint64_t dbc = 0;              ///< frames of a DBC message that did not decode
+};
+
+/// The error frames of the bus's controller (linux/can/error.h), by class; navd asks for all
+/// of them and keeps running through every one, bus-off included (it only listens).
+struct CanErrors {
+  std::uint64_t bus_off = 0;     ///< its controller went bus-off: nothing arrives until...
+  std::uint64_t restarted = 0;   ///< ...it restarted
+  std::uint64_t protocol = 0;    ///< bus errors (a corrupted frame, which is sent again)
+  std::uint64_t controller = 0;  ///< state changes: error warning, passive, active again
+  std::uint8_t rx_errors = 0;    ///< the receive error counter last reported
+  bool bus_is_off = false;       ///< between a bus-off and its restart
 };
 
 /// The front end of one CAN bus.
@@ -78,6 +90,8 @@ class CanInput {
   std::uint64_t dbc_count(const std::string& message_name) const;
   /// Reject counters.
   const CanRejects& rejects() const { return rejects_; }
+  /// The error frames, by class.
+  const CanErrors& errors() const { return errors_; }
   /// True when a DBC was given.
   bool has_dbc() const { return db_.has_value(); }
 
@@ -112,6 +126,7 @@ class CanInput {
   std::uint64_t n2k_other_ = 0;
   std::map<std::string, std::uint64_t, std::less<>> dbc_counts_;
   CanRejects rejects_;
+  CanErrors errors_;
   std::map<std::uint32_t, protocols::n2k::Message> last_n2k_;
   std::map<std::uint32_t, std::uint8_t> last_source_;
   std::optional<protocols::wheel_encoder::WheelEncoderSample> last_left_;

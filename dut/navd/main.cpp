@@ -299,6 +299,8 @@ int run(int argc, char** argv) {
     // Receive timestamps are not used: nothing from CAN is fused yet.
     nav::transport::CanSocketOptions can_options;
     can_options.timestamps = false;
+    // Its controller's error reports too (bus errors, bus-off, restart): counted, survived.
+    can_options.error_classes = nav::protocols::can::kErrAllClasses;
     auto socket = nav::transport::CanSocket::open(opt.can_iface, can_options);
     if (!socket) {
       std::fprintf(stderr, "navd: %s\n", socket.error().detail.c_str());

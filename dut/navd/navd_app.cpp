@@ -73,6 +73,7 @@ protocols::can::Frame to_can_frame(const transport::CanFrame& f) {
   out.id = f.id;
   out.extended = f.extended;
   out.rtr = f.rtr;
+  out.error = f.error;
   out.dlc = f.dlc;
   out.data = f.data;
   return out;

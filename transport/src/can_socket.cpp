@@ -43,7 +43,10 @@ int set_flag(int fd, int level, int name, bool on) {
 }  // namespace
 
 bool operator==(const CanFrame& a, const CanFrame& b) {
-  if (a.id != b.id || a.extended != b.extended || a.rtr != b.rtr || a.dlc != b.dlc) return false;
+  if (a.id != b.id || a.extended != b.extended || a.rtr != b.rtr || a.dlc != b.dlc ||
+      a.error != b.error) {
+    return false;
+  }
   if (a.rtr) return true;
   const std::size_t n = std::min<std::size_t>(a.dlc, a.data.size());
   return std::equal(a.data.begin(), a.data.begin() + static_cast<std::ptrdiff_t>(n),
@@ -69,6 +72,12 @@ Result<CanSocket> CanSocket::open(const std::string& ifname, const CanSocketOpti
   if (set_flag(fd, SOL_CAN_RAW, CAN_RAW_LOOPBACK, options.loopback) != 0 ||
       set_flag(fd, SOL_CAN_RAW, CAN_RAW_RECV_OWN_MSGS, options.receive_own_frames) != 0) {
     return open_error(ifname, errno);
+  }
+  if (options.error_classes != 0) {
+    const can_err_mask_t mask = options.error_classes & CAN_ERR_MASK;
+    if (::setsockopt(fd, SOL_CAN_RAW, CAN_RAW_ERR_FILTER, &mask, sizeof(mask)) != 0) {
+      return open_error(ifname, errno);
+    }
   }
   // A kernel that cannot stamp only costs the timestamps, not the socket.
   if (options.timestamps) (void)set_flag(fd, SOL_SOCKET, SO_TIMESTAMPNS, true);
@@ -104,7 +113,8 @@ void CanSocket::close_fd() {
 }
 
 Result<void> CanSocket::send(const CanFrame& frame) {
-  const std::uint32_t max_id = frame.extended ? CanFrame::kMaxExtendedId : CanFrame::kMaxStandardId;
+  const std::uint32_t max_id = frame.extended || frame.error ? CanFrame::kMaxExtendedId
+                                                             : CanFrame::kMaxStandardId;
   if (frame.id > max_id || frame.dlc > CAN_MAX_DLEN) {
     return fail(ErrorCode::kInvalidArgument,
                 "CAN interface " + ifname_ + ": cannot send frame with id 0x" +
@@ -115,6 +125,7 @@ Result<void> CanSocket::send(const CanFrame& frame) {
   out.can_id = frame.id;
   if (frame.extended) out.can_id |= CAN_EFF_FLAG;
   if (frame.rtr) out.can_id |= CAN_RTR_FLAG;
+  if (frame.error) out.can_id = (frame.id & CAN_ERR_MASK) | CAN_ERR_FLAG;
   out.len = frame.dlc;
   if (!frame.rtr) std::copy_n(frame.data.begin(), frame.dlc, out.data);
 
@@ -158,9 +169,10 @@ Result<std::optional<ReceivedCanFrame>> CanSocket::receive() {
 
   ReceivedCanFrame received;
   CanFrame& frame = received.frame;
-  frame.extended = (in.can_id & CAN_EFF_FLAG) != 0;
-  frame.rtr = (in.can_id & CAN_RTR_FLAG) != 0;
-  frame.id = in.can_id & (frame.extended ? CAN_EFF_MASK : CAN_SFF_MASK);
+  frame.error = (in.can_id & CAN_ERR_FLAG) != 0;
+  frame.extended = !frame.error && (in.can_id & CAN_EFF_FLAG) != 0;
+  frame.rtr = !frame.error && (in.can_id & CAN_RTR_FLAG) != 0;
+  frame.id = in.can_id & (frame.error ? CAN_ERR_MASK : frame.extended ? CAN_EFF_MASK : CAN_SFF_MASK);
   frame.dlc = std::min<std::uint8_t>(in.len, CAN_MAX_DLEN);
   if (!frame.rtr) std::copy_n(in.data, frame.dlc, frame.data.begin());
 

@@ -334,7 +334,8 @@ TEST(NavdCanInput, CountersText) {
   EXPECT_EQ(none.counters_text(),
             "frames=0 n2k{127250=0,127251=0,127257=0,128259=0,128267=0,129025=0,129026=0,"
             "129029=0,other=0} dbc{} rejects{unknown_id=0,rtr=0,error_frames=0,fields=0,"
-            "fast_packet=0,fast_packet_dup=0,dbc=0}");
+            "fast_packet=0,fast_packet_dup=0,dbc=0} errors{bus_off=0,restarted=0,protocol=0,"
+            "controller=0,rx_errors=0}");
   CanInput in = crawler_input();
   in.feed(raw_frame(0x09F11201, true, {0x00, 0x5C, 0x3D, 0xFF, 0x7F, 0xFF, 0x7F, 0xFC}));
   in.feed(raw_frame(0x120, false, {0xE8, 0x03, 0x00, 0x00, 0xDC, 0x05, 0x13, 0x00}));
@@ -343,7 +344,40 @@ TEST(NavdCanInput, CountersText) {
             "frames=3 n2k{127250=1,127251=0,127257=0,128259=0,128267=0,129025=0,129026=0,"
             "129029=0,other=0} dbc{WheelEncoderLeft=1,WheelEncoderRight=0} "
             "rejects{unknown_id=1,rtr=0,error_frames=0,fields=0,fast_packet=0,"
-            "fast_packet_dup=0,dbc=0}");
+            "fast_packet_dup=0,dbc=0} errors{bus_off=0,restarted=0,protocol=0,controller=0,"
+            "rx_errors=0}");
+}
+
+// What a Linux controller driver reports (linux/can/error.h), as the bench plays it on a
+// virtual bus: a corrupted frame, error-passive, bus-off and the restart; counted, survived.
+TEST(NavdCanInput, ErrorFramesAreCountedByClassAndBusOffUntilTheRestart) {
+  namespace can = protocols::can;
+  CanInput in;
+  can::ErrorReport corrupted{can::kErrProtocol | can::kErrCounters, 0, can::kProtForm,
+                             can::kProtLocCrcSequence, 0, 1};
+  in.feed(can::error_frame(corrupted));
+  can::ErrorReport passive{can::kErrController | can::kErrCounters, can::kCtrlRxPassive, 0, 0, 0,
+                           128};
+  in.feed(can::error_frame(passive));
+  in.feed(can::error_frame({can::kErrBusOff | can::kErrController, 0, 0, 0, 0, 0}));
+  EXPECT_TRUE(in.errors().bus_is_off);
+  in.feed(can::error_frame({can::kErrRestarted | can::kErrController, can::kCtrlActive, 0, 0, 0,
+                            0}));
+  EXPECT_FALSE(in.errors().bus_is_off);
+  EXPECT_EQ(in.errors().protocol, 1u);
+  EXPECT_EQ(in.errors().controller, 3u);
+  EXPECT_EQ(in.errors().bus_off, 1u);
+  EXPECT_EQ(in.errors().restarted, 1u);
+  EXPECT_EQ(in.errors().rx_errors, 128u);
+  EXPECT_EQ(in.rejects().error_frames, 4u);
+  EXPECT_EQ(in.frames(), 4u);
+  // Data frames after the restart decode as before.
+  in.feed(raw_frame(0x09F11201, true, {0x00, 0x5C, 0x3D, 0xFF, 0x7F, 0xFF, 0x7F, 0xFC}));
+  EXPECT_EQ(in.n2k_count(protocols::n2k::kPgnVesselHeading), 1u);
+  EXPECT_NE(in.counters_text().find(
+                "errors{bus_off=1,restarted=1,protocol=1,controller=3,rx_errors=128}"),
+            std::string::npos)
+      << in.counters_text();
 }
 
 }  // namespace

@@ -228,7 +228,7 @@ TEST(NavdCanVcan, DecodesAndCountsWhatIsSentOnTheBus) {
       " n2k{127250=2,127251=1,127257=1,128259=1,128267=1,129025=1,129026=1,129029=2,other=0}"
       " dbc{WheelEncoderLeft=4,WheelEncoderRight=3}"
       " rejects{unknown_id=1,rtr=1,error_frames=0,fields=1,fast_packet=0,fast_packet_dup=0,"
-      "dbc=1}}";
+      "dbc=1} errors{bus_off=0,restarted=0,protocol=0,controller=0,rx_errors=0}}";
   EXPECT_NE(err.find(expected), std::string::npos) << "expected " << expected << "\nin\n" << err;
   EXPECT_NE(err.find("solutions written=2 "), std::string::npos) << err;
   if (!HasFailure()) navd.remove_dir();

@@ -31,6 +31,10 @@ struct CanFrame {
   bool extended = false;      ///< 29-bit identifier (CAN 2.0B extended frame format)
   bool rtr = false;           ///< remote transmission request: carries no data, only `dlc`
   std::uint8_t dlc = 0;       ///< data length code 0..8 [bytes] (requested length for RTR)
+  /// A SocketCAN error frame (CAN_ERR_FLAG): `id` holds its error classes (CAN_ERR_*), the
+  /// data its details (linux/can/error.h). Sent on a virtual bus to play a controller's
+  /// reports; received only with CanSocketOptions::error_classes.
+  bool error = false;
   std::array<std::uint8_t, 8> data{};  ///< payload; bytes from `dlc` on are not sent
 
   /// Same identifier, format, RTR flag, DLC and the first `dlc` data bytes (none for RTR).
@@ -54,6 +58,9 @@ struct CanSocketOptions {
   bool loopback = true;
   /// Ask the kernel for receive timestamps (SO_TIMESTAMPNS).
   bool timestamps = true;
+  /// Error classes to receive as error frames (CAN_RAW_ERR_FILTER): 0, the kernel's
+  /// default, none; CAN_ERR_MASK (0x1FFFFFFF) all.
+  std::uint32_t error_classes = 0;
 };
 
 /// An open CAN_RAW socket bound to one CAN interface.
