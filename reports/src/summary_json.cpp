@@ -167,6 +167,8 @@ void write_summary(const RunRecord& r, const std::string& dir) {
                               {"bitrate", b.bitrate_bps},
                               {"frames_sent", b.frames_sent},
                               {"frames_dropped", b.frames_dropped},
+                              {"error_reports", b.error_reports},
+                              {"frames_withheld", b.frames_withheld},
                               {"frame_bits", b.frame_bits},
                               {"bus_load", b.bus_load},
                               {"queueing_delay", stats_json(b.queueing_delay)},

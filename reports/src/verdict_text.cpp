@@ -97,6 +97,13 @@ std::string verdict_text(const RunRecord& r) {
                   b.bus_load * 100.0, b.queueing_delay.p50_s * 1e3, b.queueing_delay.p99_s * 1e3,
                   b.queueing_delay.max_s * 1e3);
     o << line;
+    if (b.error_reports > 0 || b.frames_withheld > 0) {
+      std::snprintf(line, sizeof line,
+                    "  CAN %s faults: %zu error frames reported to the DUT, %zu frames it missed "
+                    "while bus-off\n",
+                    b.interface.c_str(), b.error_reports, b.frames_withheld);
+      o << line;
+    }
     if (b.write_lateness.count > 0) {
       std::snprintf(line, sizeof line,
                     "  CAN %s write lateness  p50 %.3f ms  p99 %.3f ms  max %.3f ms  (%zu frames)\n",

@@ -32,10 +32,14 @@ bool CanSender::send_due(Duration t, const std::function<void(Duration)>& wait,
 }
 
 bool CanSender::send(const CanTxFrame& tx, Duration queue_wait) {
+  // The DUT's controller was bus-off: the frame was on the bus, nobody here received it.
+  if (tx.delivery == CanTxFrame::Delivery::kWithheld) return false;
+  const bool report = tx.delivery == CanTxFrame::Delivery::kErrorReport;
   transport::CanFrame f;
   f.id = tx.f.frame.id;
   f.extended = tx.f.frame.extended;
   f.rtr = tx.f.frame.rtr;
+  f.error = tx.f.frame.error;
   f.dlc = static_cast<std::uint8_t>(tx.f.frame.length());
   std::copy(tx.f.frame.data.begin(), tx.f.frame.data.end(), f.data.begin());
   const Timestamp start = monotonic_now();
@@ -50,14 +54,19 @@ bool CanSender::send(const CanTxFrame& tx, Duration queue_wait) {
     }
   }
   const std::uint32_t d = tx.device;
-  if (!r) {
-    ++dropped_[d];
-    log_.tally.add(d, tx.due, 0, 0, f.dlc);
+  // A report is the DUT's controller's, not a device's message: not in a device's counts.
+  if (!report) {
+    if (!r) {
+      ++dropped_[d];
+      log_.tally.add(d, tx.due, 0, 0, f.dlc);
+      return false;
+    }
+    ++sent_[d];
+    bytes_[d] += f.dlc;
+    log_.tally.add(d, tx.due, 1, f.dlc, 0);
+  } else if (!r) {
     return false;
   }
-  ++sent_[d];
-  bytes_[d] += f.dlc;
-  log_.tally.add(d, tx.due, 1, f.dlc, 0);
   // Realtime stamps the capture when the frame was written; lockstep with its due time.
   const bool realtime = sc_.mode == TimeMode::kRealtime;
   const Duration stamp = realtime ? start - t0_ : tx.due;

@@ -7,6 +7,7 @@
 
 #include "devices/device_kind.hpp"
 #include "nav/emulators/mounted_truth.hpp"
+#include "run/can_faults.hpp"
 
 namespace nav::bench::detail {
 namespace {
@@ -21,15 +22,25 @@ void generate_can(const Scenario& sc, const std::vector<RunDevice>& devices,
     const auto& dev = devices[d].spec;
     if (!dev.on_can()) continue;
     const auto seed = emulators::device_seed(sc.seed, dev.name);
-    for (auto& f : device_kind(dev).frames(dev, *devices[d].truth, sc.duration,
-                                                 seed)) {
+    auto frames = device_kind(dev).frames(dev, *devices[d].truth, sc.duration, seed);
+    for (const auto& f : frames) {
       emulators::WireMessage m;
       m.t_valid = f.t_valid;
       m.t_send = f.t_ready;
       out.can_times[d].push_back(std::move(m));
-      requests.push_back(CanFrameRequest{f.t_ready, f.frame.id, f.frame.extended, f.frame.rtr,
-                                         static_cast<std::uint8_t>(f.frame.length())});
-      out.can.push_back(CanTxFrame{d, std::move(f), {}, {}});
+    }
+    // Its frame faults, before the bus: lost, sent twice, a flood added.
+    auto attempts =
+        apply_can_device_faults(std::move(frames), dev.can_faults, sc.can->bitrate_bps,
+                                emulators::device_seed(sc.seed, dev.name + "/faults"),
+                                out.stream_faults[d]);
+    for (auto& a : attempts) {
+      requests.push_back(CanFrameRequest{a.f.t_ready, a.f.frame.id, a.f.frame.extended,
+                                         a.f.frame.rtr,
+                                         static_cast<std::uint8_t>(a.f.frame.length())});
+      CanTxFrame tx{d, std::move(a.f), {}, {}};
+      tx.corrupted = a.corrupted;
+      out.can.push_back(std::move(tx));
     }
   }
   out.can_slots = schedule_can_bus(requests, sc.can->bitrate_bps);
@@ -43,6 +54,8 @@ void generate_can(const Scenario& sc, const std::vector<RunDevice>& devices,
   std::stable_sort(out.can.begin(), out.can.end(), [](const CanTxFrame& a, const CanTxFrame& b) {
     return a.slot.start < b.slot.start;
   });
+  // What the DUT's controller receives of it: error reports, bus-off.
+  apply_can_receiver(out.can, sc.can->faults, out.can_bus_faults);
 }
 
 }  // namespace

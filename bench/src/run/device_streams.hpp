@@ -44,11 +44,23 @@ void mount_devices(std::vector<RunDevice>& devices, const VehicleTruths& truths)
 /// One CAN frame of the run: its device, the frame, its place on the bus and when the bench
 /// writes it to the interface (the slot end less the 3-bit interframe space: the frame's last
 /// bit, the end of EOF, has left; that is when a receiving controller delivers it).
+/// CanTxFrame::device of a report of the DUT's controller, which no device sent.
+inline constexpr std::uint32_t kNoCanDevice = 0xFFFFFFFF;
+
 struct CanTxFrame {
+  /// What the bench writes for it (CAN faults, can_faults.hpp).
+  enum class Delivery {
+    kFrame,        ///< the frame, as the bus delivered it
+    kErrorReport,  ///< f.frame is the error frame the DUT's controller reports (a corrupted
+                   ///< attempt, a bus-off, a restart); it took no bus time of its own
+    kWithheld      ///< on the bus, but the DUT's controller was bus-off: not written
+  };
   std::uint32_t device = 0;
   emulators::CanWireFrame f;
   CanFrameSlot slot;
   Duration due{};
+  Delivery delivery = Delivery::kFrame;
+  bool corrupted = false;  ///< an attempt destroyed on the wire (sent again after it)
 };
 
 struct DeviceStreams {
@@ -66,6 +78,8 @@ struct DeviceStreams {
   /// Per device: its CAN frames' times of validity (t_valid) and readiness (t_send), in
   /// request order, for its measurement-fault records.
   std::vector<std::vector<emulators::WireMessage>> can_times;
+  /// What the faults of the DUT's CAN controller (vehicle.can.faults) did.
+  std::vector<emulators::FaultRecord> can_bus_faults;
 };
 
 /// Every device's stream over [0, duration) from its truth (mount_devices()), each device's

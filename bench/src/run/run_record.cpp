@@ -36,6 +36,12 @@ reports::CanBusRow can_bus_row(const RunFacts& f) {
   bus.bitrate_bps = f.sc.can->bitrate_bps;
   std::vector<double> queueing;
   for (const auto& tx : f.can.frames()) {
+    if (tx.device == kNoCanDevice) {  // a report of the DUT's controller: no bus time
+      ++bus.error_reports;
+      continue;
+    }
+    if (tx.delivery == CanTxFrame::Delivery::kErrorReport) ++bus.error_reports;
+    if (tx.delivery == CanTxFrame::Delivery::kWithheld) ++bus.frames_withheld;
     bus.frame_bits += tx.slot.bits;
     queueing.push_back(to_seconds(tx.slot.start - tx.f.t_ready));
   }
@@ -64,6 +70,9 @@ void add_faults(const RunFacts& f, reports::RunRecord& rec) {
     for (const auto& r : records) {
       rec.faults.push_back({dev.name, r.kind, r.start_s, r.end_s, r.messages_affected});
     }
+  }
+  for (const auto& r : f.streams.can_bus_faults) {  // the DUT's CAN controller
+    rec.faults.push_back({f.sc.can->interface, r.kind, r.start_s, r.end_s, r.messages_affected});
   }
 }
 

@@ -61,6 +61,8 @@ void RunWires::tag_can_triggers() {
   if (p_.can == nullptr) return;
   const auto& frames = p_.can->frames();
   for (std::size_t i = 0; i < frames.size(); ++i) {
+    // Only frames the DUT receives can be triggers (not reports, not withheld frames).
+    if (frames[i].delivery != CanTxFrame::Delivery::kFrame) continue;
     const std::uint32_t d = frames[i].device;
     const auto& spec = (*p_.devices)[d].spec;
     const auto rule = device_kind(spec).trigger.of_frame;

@@ -61,6 +61,36 @@ Dimension quantity_dimension(emulators::Quantity q) {
   return Dimension::kLength;
 }
 
+}  // namespace
+
+std::pair<Duration, Duration> read_fault_window(const MapReader& m, Duration run) {
+  const Field from = m.required("from");
+  const Duration start = from.duration(Bound::kNonNegative);
+  const Field to = m.required("to");
+  const Duration end = to.duration(Bound::kPositive);
+  char buf[200];
+  if (start >= run) {
+    std::snprintf(buf, sizeof buf,
+                  "expected a fault start before the end of the scenario (duration %g s), "
+                  "got '%s'", to_seconds(run), from.node().Scalar().c_str());
+    from.fail(buf);
+  }
+  if (end > run) {
+    std::snprintf(buf, sizeof buf,
+                  "expected a fault end within the scenario (duration %g s), got '%s'",
+                  to_seconds(run), to.node().Scalar().c_str());
+    to.fail(buf);
+  }
+  if (end <= start) {
+    std::snprintf(buf, sizeof buf, "expected a fault end after its start (from %g s), got '%s'",
+                  to_seconds(start), to.node().Scalar().c_str());
+    to.fail(buf);
+  }
+  return {start, end};
+}
+
+namespace {
+
 /// One item of a device's faults list: a stream fault goes to d.faults, a measurement fault
 /// (wrong, gps_jump, bottom_lock_loss, usbl_outliers) to the measurement_faults of d's type.
 void read_fault(const Field& item, Duration run, DeviceSpec& d) {
@@ -86,8 +116,10 @@ void read_fault(const Field& item, Duration run, DeviceSpec& d) {
   if (!item.node().IsMap()) item.fail("expected a fault map, got " + what_is(item.node()));
   const auto kind_field = item.peek("kind");
   if (!kind_field) item.fail("missing required key 'kind'");
+  if (d.on_can() && read_can_fault(item, run, d)) return;
   {  // a measurement fault of another device type: say which type takes it
     std::vector<std::string> names;
+    if (d.on_can()) names = can_device_fault_names();
     for (const auto& [name, k] : kinds) names.push_back(name);
     const std::string expected = "one of " + join(names);
     const std::string t = kind_field->text(expected);
@@ -96,8 +128,8 @@ void read_fault(const Field& item, Duration run, DeviceSpec& d) {
         if (t == name) {
           kind_field->fail("expected " + expected + " (for type " + d.type +
                            "), got " + quoted(t) +
-                           ": CAN devices take measurement faults only (CAN frame faults are "
-                           "not supported yet)");
+                           ": a serial stream fault; CAN devices take CAN frame faults and "
+                           "measurement faults");
         }
       }
     }
@@ -111,6 +143,9 @@ void read_fault(const Field& item, Duration run, DeviceSpec& d) {
         kind_field->fail("expected " + expected + " (for type " + d.type +
                          "), got " + quoted(t) + ", a fault of type " + owner + " only");
       }
+    }
+    if (std::find(names.begin(), names.end(), t) == names.end()) {
+      kind_field->fail("expected " + expected + ", got " + quoted(t));
     }
   }
   const AnyFaultKind kind = kind_field->choice(kinds);
@@ -137,28 +172,7 @@ void read_fault(const Field& item, Duration run, DeviceSpec& d) {
     }
   }
   const MapReader m(item, keys);
-  const Field from = m.required("from");
-  const Duration start = from.duration(Bound::kNonNegative);
-  const Field to = m.required("to");
-  const Duration end = to.duration(Bound::kPositive);
-  char buf[200];
-  if (start >= run) {
-    std::snprintf(buf, sizeof buf,
-                  "expected a fault start before the end of the scenario (duration %g s), "
-                  "got '%s'", to_seconds(run), from.node().Scalar().c_str());
-    from.fail(buf);
-  }
-  if (end > run) {
-    std::snprintf(buf, sizeof buf,
-                  "expected a fault end within the scenario (duration %g s), got '%s'",
-                  to_seconds(run), to.node().Scalar().c_str());
-    to.fail(buf);
-  }
-  if (end <= start) {
-    std::snprintf(buf, sizeof buf, "expected a fault end after its start (from %g s), got '%s'",
-                  to_seconds(start), to.node().Scalar().c_str());
-    to.fail(buf);
-  }
+  const auto [start, end] = read_fault_window(m, run);
 
   if (kind.measurement) {
     emulators::MeasurementFault f;

@@ -47,14 +47,27 @@ void check_size(const Field& duration, const Scenario& s) {
   std::snprintf(truth, sizeof truth, "%struth %g Hz%s", rates.empty() ? "" : ", ",
                 s.truth_rate_hz, vehicles > 1.0 ? " per vehicle" : "");
   rates += truth;
-  const double planned = hz * seconds;
+  double planned = hz * seconds;
+  // A babbling CAN device's flood: one 8-byte frame per frame time for its window.
+  if (s.can) {
+    for (const auto& d : s.devices) {
+      for (const auto& f : d.can_faults) {
+        if (f.kind != CanFaultSpec::Kind::kBabbling) continue;
+        const double frames = to_seconds(f.to - f.from) * s.can->bitrate_bps / 135.0;
+        planned += frames;
+        char buf[96];
+        std::snprintf(buf, sizeof buf, ", %s babbling %.3g frames", d.name.c_str(), frames);
+        rates += buf;
+      }
+    }
+  }
   if (planned > kMaxPlanned) {
     char buf[256];
     std::snprintf(buf, sizeof buf,
                   "%g s of %g Hz in all is %.3g messages and truth samples, more than the %.0f "
                   "a run holds in memory: shorten the duration to at most %.0f s or lower the "
                   "rates",
-                  seconds, hz, planned, kMaxPlanned, kMaxPlanned / hz);
+                  seconds, hz, planned, kMaxPlanned, seconds * kMaxPlanned / planned);
     duration.fail(std::string(buf) + " (" + rates + ")");
   }
 }

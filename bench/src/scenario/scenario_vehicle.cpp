@@ -143,9 +143,9 @@ double read_can_bitrate(const Field& f) {
   return bps;
 }
 
-/// vehicle.can: {interface, bitrate}.
-CanBusSpec read_can(const Field& f) {
-  const MapReader m(f, {"interface", "bitrate"});
+/// vehicle.can: {interface, bitrate, faults}.
+CanBusSpec read_can(const Field& f, Duration run) {
+  const MapReader m(f, {"interface", "bitrate", "faults"});
   CanBusSpec c;
   const Field i = m.required("interface");
   c.interface = i.text("a CAN interface name such as vcan0 or can0");
@@ -159,6 +159,7 @@ CanBusSpec read_can(const Field& f) {
            quoted(c.interface));
   }
   if (auto v = m.optional("bitrate")) c.bitrate_bps = read_can_bitrate(*v);
+  if (auto v = m.optional("faults")) c.faults = read_can_bus_faults(*v, run);
   return c;
 }
 
@@ -193,7 +194,7 @@ void read_vehicle(const Field& f, Scenario& s) {
     }
     cur.seabed_m = s.seabed_depth_m;
   }
-  if (auto v = m.optional("can")) s.can = read_can(*v);
+  if (auto v = m.optional("can")) s.can = read_can(*v, s.duration);
   for (const Field& item : m.required("path").list("a list of path segments", 1)) {
     t.segments.push_back(read_segment(item, cur));
     s.segment_locations.push_back(location(s.file, item.mark()));

@@ -237,6 +237,28 @@ TEST_F(CanSocketVcan, LoopbackOffKeepsFramesFromOtherLocalSockets) {
   EXPECT_TRUE(stays_quiet(*b_));
 }
 
+// An error frame (CAN_ERR_FLAG), as a controller driver reports one and as the bench plays it
+// on a virtual bus: it reaches only the sockets that asked for its class.
+TEST_F(CanSocketVcan, ErrorFramesReachOnlySocketsThatAskForThem) {
+  CanSocketOptions errors;
+  errors.error_classes = 0x1FFFFFFF;
+  auto listener = open_or_die(errors);
+  ASSERT_TRUE(listener);
+  CanFrame e;
+  e.error = true;
+  e.id = 0x208;  // CAN_ERR_PROT | CAN_ERR_CNT
+  e.dlc = 8;
+  e.data[3] = 0x08;
+  e.data[7] = 5;
+  ASSERT_TRUE(a_->send(e).has_value());
+  auto heard = receive_within(*listener);
+  ASSERT_TRUE(heard.has_value()) << "the error frame did not arrive";
+  EXPECT_TRUE(heard->frame.error);
+  EXPECT_EQ(heard->frame.id, 0x208u);
+  EXPECT_EQ(heard->frame, e);
+  EXPECT_TRUE(stays_quiet(*b_));  // b_ did not ask for error frames
+}
+
 TEST_F(CanSocketVcan, FdPollsReadableWhenAFrameWaits) {
   pollfd p{b_->fd(), POLLIN, 0};
   EXPECT_EQ(::poll(&p, 1, 0), 0);

@@ -25,6 +25,24 @@ namespace nav::bench {
 
 enum class TimeMode { kRealtime, kLockstep };
 
+/// A fault of a CAN device's frames (its `faults`), or of the DUT's CAN controller
+/// (vehicle.can.faults: bus_off). docs/scenario.md, "CAN faults".
+struct CanFaultSpec {
+  enum class Kind {
+    kFrameLoss,  ///< frames never reach the bus (the device's transmit queue lost them)
+    kCorrupted,  ///< frames destroyed on the wire: an error reported, the frame sent again
+    kBabbling,   ///< the device floods the bus with frames of one dominant identifier
+    kBusOff      ///< the DUT's controller is bus-off: it receives nothing until it restarts
+  };
+  Kind kind = Kind::kFrameLoss;
+  Duration from{}, to{};     ///< window [from, to), scenario time
+  double probability = 0.0;  ///< frame_loss, corrupted: share of the device's frames hit
+  std::uint32_t id = 0;      ///< babbling: its 11-bit identifier (0: the most dominant)
+};
+
+/// The scenario name of a CAN fault kind ("frame_loss", ...).
+const char* can_fault_name(CanFaultSpec::Kind k);
+
 /// One emulated device on its own serial line, or on the vehicle's CAN bus (vehicle.can).
 /// What a device of each `type` is, reads and sends is its kind's business
 /// (bench/src/devices/, one file per kind); the spec holds the kind's settings opaquely.
@@ -53,6 +71,8 @@ struct DeviceSpec {
   /// Faults applied to the encoded stream (for a Keller: to its answers), in file order
   /// (windows inside [0, duration)). Measurement faults live in the kind's settings.
   std::vector<emulators::FaultSpec> faults;
+  /// A CAN device's frame faults, in file order.
+  std::vector<CanFaultSpec> can_faults;
 };
 
 /// A `restart` fault of the DUT (dut.faults): the bench kills its process group with SIGKILL
@@ -108,6 +128,7 @@ struct PeerSpec {
 struct CanBusSpec {
   std::string interface;        ///< SocketCAN interface, e.g. vcan0 or can0
   double bitrate_bps = 250000;  ///< nominal bit rate [bit/s]
+  std::vector<CanFaultSpec> faults;  ///< of the DUT's controller (bus_off), in time order
 };
 
 /// Top-level `labels`: label name -> value, in file order (summary.json, campaign tables).

@@ -105,6 +105,9 @@ struct CanBusRow {
   double bitrate_bps = 0.0;      ///< [bit/s]
   std::size_t frames_sent = 0;   ///< written to the interface
   std::size_t frames_dropped = 0;  ///< refused by the interface (transmit queue full)
+  /// CAN faults: error frames written as the DUT's controller reports (a corrupted frame, a
+  /// bus-off, a restart), and frames it missed while bus-off.
+  std::size_t error_reports = 0, frames_withheld = 0;
   std::uint64_t frame_bits = 0;  ///< sum of every scheduled frame's bit length, stuffing worst
                                  ///< case and interframe space included [bit]
   double bus_load = 0.0;         ///< busy fraction of [0, duration) (can_bus_load) [-]
