@@ -103,7 +103,8 @@ const DeviceKind& wheel_encoders_kind() {
       .baud = 115200,  // unused: on the bus (DeviceSpec's default)
       .rate_hz = 0.0,  // its DBC's message cycle unless `rate` is given
       .latency = 1ms,  // WheelEncoderConfig's default
-      .keys = {"name", "type", "dbc", "wheel_radius", "track", "slip", "errors", "rate", "latency"},
+      .keys = {"name", "type", "dbc", "wheel_radius", "track", "slip", "errors", "rate", "latency",
+               "faults"},
       .read = &read,
       .frames = &frames,
       .trigger = {"identifier * 256 + MsgCounter of each WheelEncoderLeft/Right frame",

@@ -108,7 +108,9 @@ void read_fault(const Field& item, Duration run, DeviceSpec& d) {
   if (!d.on_can()) {
     for (const auto& [name, k] : stream_kinds) kinds.push_back({name, AnyFaultKind{false, k, {}}});
   }
-  std::vector<MK> measurement_kinds{MK::kWrong};
+  // A kind without measurement faults (the wheel encoders) takes CAN frame faults only.
+  std::vector<MK> measurement_kinds;
+  if (device_kind(d).measurement_faults != nullptr) measurement_kinds.push_back(MK::kWrong);
   for (const MK k : device_kind(d).special_faults) measurement_kinds.push_back(k);
   for (const MK k : measurement_kinds) {
     kinds.push_back({emulators::measurement_fault_name(k), AnyFaultKind{true, {}, k}});

@@ -119,6 +119,26 @@ TEST(ScenarioCanFaults, MalformedCanFaultsAreRefusedWhereTheyAre) {
   }
 }
 
+TEST(ScenarioCanFaults, WheelEncodersTakeCanFaultsOnly) {
+  const std::string dbc = std::string(NAV_SOURCE_DIR) + "/fixtures/crawler.dbc";
+  const auto ok = load_with("wheels", "", "      faults:\n        - {kind: frame_loss, from: 1 s, "
+                                           "to: 2 s}\n    - {name: wheels, type: wheel-encoders, "
+                                           "dbc: " + dbc + ", faults: [{kind: corrupted, from: "
+                                           "1 s, to: 2 s}]}\n");
+  ASSERT_TRUE(ok) << ok.error().detail;
+  ASSERT_EQ(ok->devices.size(), 3u);
+  ASSERT_EQ(ok->devices[2].can_faults.size(), 1u);
+  EXPECT_EQ(ok->devices[2].can_faults[0].kind, Kind::kCorrupted);
+  const auto wrong = load_with("wheels_wrong", "",
+                               "    - {name: wheels, type: wheel-encoders, dbc: " + dbc +
+                                   ", faults: [{kind: wrong, from: 1 s, to: 2 s}]}\n");
+  ASSERT_FALSE(wrong);
+  EXPECT_NE(wrong.error().detail.find("expected one of frame_loss, corrupted, babbling, got "
+                                      "'wrong'"),
+            std::string::npos)
+      << wrong.error().detail;
+}
+
 TEST(ScenarioCanFaults, ABabblingFloodCountsTowardsTheScenarioSize) {
   // 10 h of babbling at 250 kbit/s: 66.7 M frames, far past what a run holds.
   const auto s = load_with("flood", "",
