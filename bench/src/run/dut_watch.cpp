@@ -320,10 +320,10 @@ void DutWatch::drain() {
     if (stop_ || !ok()) return true;
     return std::all_of(vehicles_.begin(), vehicles_.end(), [&](const Vehicle& v) {
       // As many answers naming the last tag as it was owed (a wrapped tag is owed again).
-      const auto owed = v.answers_expected.find(v.last_trigger_tag);
+      const std::size_t owed = v.answers_expected.count(v.last_trigger_tag);
       return v.triggers_sent == 0 ||
              v.reader->wait_for(v.last_trigger_tag, now,
-                                owed == v.answers_expected.end() ? 1 : owed->second);
+                                owed == 0 ? 1 : owed);
     });
   });
   for (auto& v : vehicles_) v.reader->set_on_answer(nullptr);

@@ -35,6 +35,7 @@
 #include "nav/bench/scenario.hpp"
 #include "run/device_streams.hpp"
 #include "run/event_loop.hpp"
+#include "run/recent_counts.hpp"
 #include "run/dut_log_limit.hpp"
 #include "run/run_log.hpp"
 #include "run/wakeup.hpp"
@@ -61,7 +62,7 @@ struct Vehicle {
   std::uint64_t last_trigger_tag = 0;
   /// Lockstep: answers naming each trigger tag the DUT may give so far (1 per trigger, one
   /// more per copy a `stuck` fault sent).
-  std::unordered_map<std::uint64_t, std::size_t> answers_expected;
+  RecentCounts answers_expected;
   /// Restart faults (dut->restarts): the next one due and what each did.
   std::size_t next_restart = 0;
   std::vector<RestartRecord> restarts;

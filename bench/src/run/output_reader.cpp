@@ -18,6 +18,8 @@
 #include "nav/protocols/nmea0183.hpp"
 #include "nav/common/escape.hpp"
 #include "run/event_loop.hpp"
+#include "run/recent_counts.hpp"
+#include "run/spill_log.hpp"
 
 namespace nav::bench {
 
@@ -44,8 +46,26 @@ struct OutputReader::Io {
   std::promise<void> stopped;
 };
 
+/// One answer as spilled: the solution's numbers (not its texts).
+struct StoredAnswer {
+  Timestamp rx{};
+  std::uint64_t tag = 0, seq = 0;
+  double lat_deg = 0, lon_deg = 0, depth_m = 0, vn = 0, ve = 0, vd = 0, roll = 0, pitch = 0,
+         yaw = 0;
+  bool position_valid = false;
+};
+
+struct OutputReader::Store {
+  explicit Store(std::string dir) : answers(std::move(dir)) {}
+  detail::SpillLog<StoredAnswer> answers;
+  detail::RecentCounts by_tag;  ///< answers naming each recent tag
+};
+
 OutputReader::OutputReader(int fd, CaptureFile* capture, Timestamp t0, EventLoop* loop)
-    : fd_(fd), capture_(capture), t0_(t0) {
+    : fd_(fd),
+      capture_(capture),
+      t0_(t0),
+      store_(std::make_unique<Store>(capture ? capture->path().parent_path().string() : "")) {
   if (!loop) {
     own_loop_ = std::make_unique<EventLoop>();
     loop = own_loop_.get();
@@ -138,10 +158,10 @@ void OutputReader::on_read(const std::uint8_t* data, std::size_t n, Timestamp rx
   bool answered = false;
   {
     std::lock_guard lock(mutex_);
-    const std::size_t before = answers_.size();
+    const std::size_t before = answer_count_;
     buffer_.insert(buffer_.end(), data, data + n);
     consume(rx);
-    answered = answers_.size() > before;
+    answered = answer_count_ > before;
   }
   capture_->flush();
   cv_.notify_all();
@@ -168,8 +188,13 @@ void OutputReader::consume(Timestamp rx) {
       note_malformed(piece, sol.error().detail, rx);
       continue;
     }
-    ++answers_by_tag_[sol->trigger_tag];
-    answers_.push_back(Answer{rx, std::move(*sol)});
+    ++store_->by_tag[sol->trigger_tag];
+    const auto& v = *sol;
+    store_->answers.push_back(StoredAnswer{rx, v.trigger_tag, v.seq, v.lat_deg, v.lon_deg,
+                                           v.depth_m, v.vn_mps, v.ve_mps, v.vd_mps, v.roll_deg,
+                                           v.pitch_deg, v.yaw_deg, v.position_valid});
+    ++answer_count_;
+    last_answer_ = rx;
   }
   buffer_.erase(buffer_.begin(), buffer_.begin() + static_cast<std::ptrdiff_t>(used));
 }
@@ -195,8 +220,7 @@ void OutputReader::note_malformed(protocols::ByteSpan bytes, const std::string& 
 bool OutputReader::wait_for(std::uint64_t tag, Timestamp deadline, std::size_t count) {
   std::unique_lock lock(mutex_);
   for (;;) {
-    const auto it = answers_by_tag_.find(tag);
-    if (it != answers_by_tag_.end() && it->second >= count) return true;
+    if (store_->by_tag.count(tag) >= count) return true;
     const Timestamp now = monotonic_now();
     if (now >= deadline) return false;
     const auto slice = std::min<Duration>(deadline - now, std::chrono::milliseconds(20));
@@ -206,17 +230,38 @@ bool OutputReader::wait_for(std::uint64_t tag, Timestamp deadline, std::size_t c
 
 Timestamp OutputReader::last_answer_time() const {
   std::lock_guard lock(mutex_);
-  return answers_.empty() ? Timestamp{0} : answers_.back().rx;
+  return last_answer_;
 }
 
 std::size_t OutputReader::answer_count() const {
   std::lock_guard lock(mutex_);
-  return answers_.size();
+  return answer_count_;
 }
 
 std::vector<Answer> OutputReader::answers() const {
   std::lock_guard lock(mutex_);
-  return answers_;
+  std::vector<Answer> out;
+  out.reserve(answer_count_);
+  for (const auto& a : store_->answers.read_all()) {
+    Answer x;
+    x.rx = a.rx;
+    auto& v = x.solution;
+    v.trigger_tag = a.tag;
+    v.seq = a.seq;
+    v.position_valid = a.position_valid;
+    v.lat_deg = a.lat_deg;
+    v.lon_deg = a.lon_deg;
+    v.depth_m = a.depth_m;
+    v.vn_mps = a.vn;
+    v.ve_mps = a.ve;
+    v.vd_mps = a.vd;
+    v.roll_deg = a.roll;
+    v.pitch_deg = a.pitch;
+    v.yaw_deg = a.yaw;
+    v.status.clear();
+    out.push_back(std::move(x));
+  }
+  return out;
 }
 
 std::size_t OutputReader::malformed() const {

@@ -59,7 +59,8 @@ class ReactiveDevices {
   /// The earliest time an answer or a channel event is due, if any.
   std::optional<Duration> next_due() const;
 
-  /// For the report: a polled device's answers and fault records, the channel's links.
+  /// For the report: a polled device's answers (their times; kept only when it has
+  /// measurement faults), its fault records, the channel's links.
   const std::vector<emulators::WireMessage>& answered(std::uint32_t d) const {
     return answered_[d];
   }

@@ -8,11 +8,13 @@
 #include <filesystem>
 #include <memory>
 #include <stdexcept>
+#include <cstdint>
 #include <vector>
 
 #include "nav/bench/capture_file.hpp"
 #include "nav/reports/run_record.hpp"
 #include "run/device_tally.hpp"
+#include "run/spill_log.hpp"
 
 namespace nav::bench::detail {
 
@@ -30,13 +32,22 @@ inline FilePtr open_file(const std::filesystem::path& p) {
   return f;
 }
 
+/// One serial message's lateness (realtime): its device (run order) and times since T0 [s].
+struct LatenessEntry {
+  std::uint32_t device = 0;
+  double scheduled_s = 0.0;  ///< scheduled wire time of its first byte
+  double actual_s = 0.0;     ///< when its first byte was written
+};
+
 struct RunLog {
   FilePtr tx;   ///< capture-tx.log: every byte the bench wrote to a serial line
   /// capture-rx.log: what the primary's DUT wrote (output, requests, commands), limited.
   std::unique_ptr<CaptureFile> rx;
   FilePtr can;  ///< capture-can.log (a bus only)
   DeviceTally tally;                          ///< per device, in all and per second
-  std::vector<reports::LatenessRow> lateness; ///< realtime: every serial message's lateness
+  /// Realtime: every serial message's lateness, spilled to a file in the run folder as the
+  /// run goes (SpillLog: a long run's memory does not grow with it).
+  SpillLog<LatenessEntry> lateness;
   std::vector<double> can_lateness;           ///< realtime: every CAN frame's [s]
 };
 

@@ -154,9 +154,11 @@ reports::RunRecord make_run_record(const RunFacts& f, const RunIdentity& id) {
   rec.latency = std::move(j.latency);
   rec.dut_latency = j.dut_latency;
   std::vector<double> late;
-  for (const auto& l : f.log.lateness) late.push_back(l.actual_s - l.scheduled_s);
+  for (const auto& l : f.log.lateness.read_all()) {
+    late.push_back(l.actual_s - l.scheduled_s);
+    rec.lateness.push_back({f.devices[l.device].spec.name, l.scheduled_s, l.actual_s});
+  }
   rec.bench_lateness = reports::summarize(late);
-  rec.lateness = std::move(f.log.lateness);
   rec.lateness_budget_p99_s = to_seconds(sc.lateness_budget_p99);
   rec.lateness_over_budget = static_cast<std::size_t>(std::count_if(
       late.begin(), late.end(), [&](double s) { return s > rec.lateness_budget_p99_s; }));

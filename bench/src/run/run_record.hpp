@@ -27,7 +27,7 @@ struct RunFacts {
   const DutWatch& watch;
   const ReactiveDevices& reactive;
   const CanSender& can;
-  RunLog& log;                               ///< its lateness rows are moved out
+  RunLog& log;                               ///< its lateness log is read back
   const std::vector<std::size_t>& suppressed;  ///< per device (WirePlayer)
   Timestamp t0{};
   bool interrupted = false;

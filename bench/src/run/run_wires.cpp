@@ -208,8 +208,7 @@ void RunWires::wrote(const Chunk& c, std::size_t written, Timestamp start) {
   const ScheduledMessage& m = schedule_.messages[c.message];
   p_.log->tally.add(m.device, c.t, 0, written, c.length - written);
   if (!lockstep_ && c.offset == 0) {
-    p_.log->lateness.push_back(reports::LatenessRow{(*p_.devices)[m.device].spec.name,
-                                                    to_seconds(c.t), to_seconds(start - t0_)});
+    p_.log->lateness.push_back(LatenessEntry{m.device, to_seconds(c.t), to_seconds(start - t0_)});
   }
 }
 
@@ -260,15 +259,15 @@ bool RunWires::wait_for_repeat_answer(Vehicle& veh, const ScheduledMessage& m) {
   // is idle before the next message, so the run stays reproducible.
   const auto& repeated = message(m).repeat_of_tag;
   if (!repeated || m.device != veh.trigger_device) return true;
-  const auto expected = veh.answers_expected.find(*repeated);
-  if (expected == veh.answers_expected.end()) return true;  // its original was never sent
-  const std::size_t count = ++expected->second;
+  std::size_t* expected = veh.answers_expected.find(*repeated);
+  if (expected == nullptr) return true;  // its original was never sent
+  const std::size_t count = ++*expected;
   const Timestamp deadline = monotonic_now() + veh.dut->watchdog;
   while (!veh.reader->wait_for(*repeated, std::min(deadline, monotonic_now() + kWaitSlice),
                                count)) {
     if (*p_.stop || !p_.watch->ok()) return false;
     if (monotonic_now() >= deadline) {
-      --expected->second;  // this DUT does not answer copies: it owes none for this one
+      --*expected;  // this DUT does not answer copies: it owes none for this one
       break;
     }
   }

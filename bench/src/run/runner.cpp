@@ -131,6 +131,7 @@ reports::RunRecord play_run(const Scenario& sc, const VehicleTruths& truths,
                   &g_interrupted, quiet});
   RealtimePacer realtime(clock, g_interrupted, kMaxSleep);
   LockstepPacer lockstep;
+  log.lateness.place(dir.string());
   log.tx = open_file(dir / "capture-tx.log");
   log.rx = std::make_unique<CaptureFile>(dir / "capture-rx.log", o.log_limit);
   if (sc.can) log.can = open_file(dir / "capture-can.log");

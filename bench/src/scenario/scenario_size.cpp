@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: MIT
 // How much a scenario may ask for. A run generates every device's messages and the truth
-// table before scenario time 0 and holds them, the DUT's solutions and their alignment to
-// truth to the end (about 0.4 kB per message, measured on the smoke scenario at 10 h in
-// lockstep: 1.6 GB for 3.6 M messages and 1.8 M truth samples). So the scenario's size is
+// table before scenario time 0 and holds them to the end; the DUT's solutions and the
+// lateness rows go to files as the run goes and are read back at its end, to be judged and
+// aligned to truth (about 0.4 kB per message at that peak, measured on the smoke scenario at
+// 10 h in lockstep: 1.6 GB for 3.6 M messages and 1.8 M truth samples). So the scenario's size is
 // bounded when it loads, with the figures that make it up, rather than by bad_alloc
 // part-way through.
 #include <cstdio>

@@ -12,7 +12,6 @@
 #include <memory>
 #include <mutex>
 #include <string>
-#include <unordered_map>
 #include <vector>
 
 #include "nav/bench/capture_file.hpp"
@@ -58,7 +57,8 @@ class OutputReader {
   /// Time of the latest answer (0 if none).
   Timestamp last_answer_time() const;
   std::size_t answer_count() const;
-  /// All answers so far, in arrival order.
+  /// All answers so far, in arrival order (read back from where they were spilled; the
+  /// solutions' `input` and `status` texts are not kept).
   std::vector<Answer> answers() const;
   std::size_t malformed() const;
   /// The first reports::kMalformedExamples malformed pieces: when (since t0), what, why.
@@ -84,8 +84,12 @@ class OutputReader {
   mutable std::mutex mutex_;
   std::condition_variable cv_;
   protocols::Bytes buffer_;
-  std::vector<Answer> answers_;
-  std::unordered_map<std::uint64_t, std::size_t> answers_by_tag_;  ///< answers naming each tag
+  /// The answers (spilled to a file beside the capture as they come: a long run's memory
+  /// does not grow with them) and how many name each recent tag.
+  struct Store;
+  std::unique_ptr<Store> store_;
+  std::size_t answer_count_ = 0;
+  Timestamp last_answer_{};
   std::size_t malformed_ = 0;
   std::vector<reports::MalformedOutput> malformed_examples_;
 };
