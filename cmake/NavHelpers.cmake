@@ -35,7 +35,8 @@ function(nav_add_vcan_test)
     NAV_BINARY_DIR="${CMAKE_RUNTIME_OUTPUT_DIRECTORY}")
   add_test(NAME ${T_NAME}
     COMMAND ${PROJECT_SOURCE_DIR}/scripts/with-vcan $<TARGET_FILE:${T_NAME}>)
-  # 77: neither the host nor user-mode Linux can give vcan0 on this machine (with-vcan --help).
+  # 77: neither the host, user-mode Linux nor a virtual machine (scripts/vcan-vm) can give vcan0
+  # on this machine (with-vcan --help).
   set_tests_properties(${T_NAME} PROPERTIES LABELS vcan RUN_SERIAL TRUE TIMEOUT 300
     ENVIRONMENT WITH_VCAN_TIMEOUT=280 SKIP_RETURN_CODE 77)
 endfunction()

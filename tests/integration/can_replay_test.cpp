@@ -373,7 +373,8 @@ TEST(NavbenchCanReplay, ReproducesTheFramesAndTheirGaps) {
   if (!HasFailure()) fs::remove_all(dir);
 }
 
-// --dut works with a candump log: here candump itself is the DUT, {can:LOGNAME} its interface.
+// --dut works with a candump log: here candump itself is the DUT, {can:LOGNAME} its interface
+// (a DUT that answers nothing: exit 4, after the whole log was played to it).
 TEST(NavbenchCanReplay, StartsADutWithTheCanInterfaceInItsArguments) {
   REQUIRE_VCAN_AND_PLAYER();
   REQUIRE_OR_SKIP(program_on_path("candump"), "candump (can-utils) not installed");
@@ -387,8 +388,12 @@ TEST(NavbenchCanReplay, StartsADutWithTheCanInterfaceInItsArguments) {
                                "--dut-log", "candump.txt", "--dut", "--", "candump", "-L",
                                "{can:can7}"},
                               dir);
-  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  // candump writes no $PNVBSOL solution: the replay ran, and says the DUT gave none (exit 4).
+  ASSERT_EQ(r.exit_code, 4) << r.out << r.err;
   EXPECT_NE(r.out.find("; DUT solutions 0"), std::string::npos) << r.out;
+  EXPECT_NE(r.err.find("the DUT wrote no solution during the replay (2 lines played"),
+            std::string::npos)
+      << r.err;
   const std::string seen = slurp(dir / "candump.txt");
   EXPECT_NE(seen.find(" vcan0 111#11\n"), std::string::npos) << seen;
   EXPECT_NE(seen.find(" vcan0 222#2233\n"), std::string::npos) << seen;

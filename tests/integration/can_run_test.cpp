@@ -348,7 +348,11 @@ TEST(CanScenario, MistakesAreRefusedAtTheirKey) {
   refused(with("type: nmea2000,", "type: nmea2000, source: 252,"),
           "vehicle.devices[2].source: expected an integer from 0 to 251");
   refused(with("type: nmea2000,", "type: nmea2000, faults: [{kind: off, from: 1 s, to: 2 s}],"),
-          "CAN devices take measurement faults only");
+          "got 'off': a serial stream fault; CAN devices take CAN frame faults and measurement "
+          "faults");
+  refused(with("type: nmea2000,", "type: nmea2000, faults: [{kind: babbling, from: 1 s, to: 2 s, "
+                                  "id: 2048}],"),
+          "vehicle.devices[2].faults[0].id: expected an integer from 0 to 2047");
 }
 
 }  // namespace
