@@ -162,13 +162,16 @@ std::string devices(const RunFolder& f) {
   const auto& buses = get_array(f.summary, "can_buses");
   if (!buses.empty()) {
     h += "<h3>CAN buses</h3><table>\n" +
-         header_row({"interface", "bit rate", "frames sent", "dropped", "bus load"});
+         header_row({"interface", "bit rate", "frames sent", "dropped", "bus load",
+                     "error frames to the DUT", "missed while bus-off", "faults"});
     for (const auto& b : buses) {
-      h += row({"<code>" + html_escape(get_string(b, "interface", "?")) + "</code>",
-                num(get_number(b, "bitrate"), 10), num(get_number(b, "frames_sent"), 10),
-                num(get_number(b, "frames_dropped"), 10),
-                fixed(get_number(b, "bus_load").value_or(0) * 100.0, 2) + " %"},
-               "tnnnn");
+      const std::string iface = get_string(b, "interface", "?");
+      h += row({"<code>" + html_escape(iface) + "</code>", num(get_number(b, "bitrate"), 10),
+                num(get_number(b, "frames_sent"), 10), num(get_number(b, "frames_dropped"), 10),
+                fixed(get_number(b, "bus_load").value_or(0) * 100.0, 2) + " %",
+                num(get_number(b, "error_reports"), 10), num(get_number(b, "frames_withheld"), 10),
+                faults_of(f, iface)},
+               "tnnnnnnt");
     }
     h += "</table>\n";
   }
