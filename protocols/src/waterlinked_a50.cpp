@@ -151,6 +151,10 @@ ParseResult<Packet> parse(ByteSpan buffer) {
   std::size_t lf = 0;
   for (std::size_t i = 1; i < buffer.size() && lf == 0; ++i) {
     const std::uint8_t c = buffer[i];
+    if (i >= kMaxLine) {  // kMaxLine characters, 'w' to LF, and no more
+      return malformed(skip_to_next_w(buffer, i),
+                       "packet longer than " + std::to_string(kMaxLine) + " characters");
+    }
     if (c == '\n') {
       lf = i;
     } else if (c == '\r') {
@@ -160,9 +164,6 @@ ParseResult<Packet> parse(ByteSpan buffer) {
     } else if (c < 0x20 || c > 0x7E) {
       return malformed(i + 1,
                        "non-printable byte 0x" + hex8(c) + " at offset " + std::to_string(i));
-    } else if (i >= kMaxLine) {
-      return malformed(skip_to_next_w(buffer, i),
-                       "packet longer than " + std::to_string(kMaxLine) + " characters");
     }
   }
   if (lf == 0) return {};  // kNeedMore

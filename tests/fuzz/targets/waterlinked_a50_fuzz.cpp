@@ -27,6 +27,9 @@ void fixed_point(const a50::Packet& p, Decode decode) {
 
 void check(const a50::Packet& p) {
   const std::string text = a50::frame(p);
+  // A command read without its optional checksum close to the bound is, framed with one,
+  // longer than a packet may be: not a line to parse back.
+  if (text.size() > a50::kMaxLine) return;
   const auto again = nav::fuzz::parse_exactly<a50::Packet, &a50::parse>(nav::fuzz::bytes_of(text));
   NAV_ENSURE(same(again, p), "a packet framed again parses differently: " + text);
   switch (p.command) {

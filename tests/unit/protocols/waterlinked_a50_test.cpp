@@ -209,6 +209,22 @@ TEST(WaterLinkedA50, SpaceIsNoCommand) {
   EXPECT_EQ(parse(to_bytes("wc ,1\n")).status, ParseStatus::kMalformed);
 }
 
+// Found by tests/fuzz (waterlinked_a50, 10-minute pass): the bound let a 257th character
+// through when it was the LF. kMaxLine characters, 'w' to LF, are a packet; one more is not.
+// A command near the bound read without its (optional) checksum frames longer than that.
+TEST(WaterLinkedA50, APacketIsAtMostKMaxLineCharactersFromWToLf) {
+  const std::string fits = "wcz," + std::string(kMaxLine - 5, 'a') + "\n";
+  ASSERT_EQ(fits.size(), kMaxLine);
+  const auto ok = parse(to_bytes(fits));
+  ASSERT_EQ(ok.status, ParseStatus::kComplete) << ok.error;
+  EXPECT_EQ(ok.consumed, kMaxLine);
+  const std::string over = "wcz," + std::string(kMaxLine - 4, 'a') + "\n";
+  const auto r = parse(to_bytes(over));
+  EXPECT_EQ(r.status, ParseStatus::kMalformed);
+  EXPECT_EQ(r.error, "packet longer than 256 characters");
+  EXPECT_GT(frame(*ok.message).size(), kMaxLine);  // with "*XX\r\n": not a packet any more
+}
+
 TEST(WaterLinkedA50, EveryPrefixNeedsMore) {
   const Bytes line = to_bytes(
       "wrz,0.120,-0.400,2.000,y,1.30,1.855,1e-07;0;1.4;0;1.2;0;0.2;0;"
