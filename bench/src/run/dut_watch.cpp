@@ -100,6 +100,7 @@ void DutWatch::start(const std::vector<BenchLine>& lines, const std::filesystem:
   lines_ = &lines;
   sent_ = std::make_unique<std::atomic<std::size_t>[]>(vehicles_.size());
   off_ = std::make_unique<std::atomic<bool>[]>(vehicles_.size());
+  update_next_restart();
   for (std::uint32_t v = 0; v < vehicles_.size(); ++v) {
     Vehicle& veh = vehicles_[v];
     veh.sent_wire_ends.assign(veh.triggers.size(), Timestamp{});
@@ -210,6 +211,9 @@ bool DutWatch::off(const Vehicle& v) const {
 
 Duration DutWatch::restarts_due(Duration t) {
   Duration startup{0};
+  // Called before every lockstep write: nothing due is the common case, and costs no trip to
+  // the loop.
+  if (t.count() < next_restart_.load(std::memory_order_acquire)) return startup;
   loop_.call([&] {
     const std::lock_guard<std::mutex> lock(mutex_);
     if (!failed_) startup = apply_restarts(t);
@@ -232,6 +236,7 @@ Duration DutWatch::apply_restarts(Duration t) {
         ++veh.next_restart;
         if (!power_on(v, r)) {
           failed();
+          update_next_restart();
           return startup;
         }
         startup = std::max(startup, veh.dut->startup);
@@ -240,7 +245,19 @@ Duration DutWatch::apply_restarts(Duration t) {
       }
     }
   }
+  update_next_restart();
   return startup;
+}
+
+void DutWatch::update_next_restart() {
+  Duration next = Duration::max();
+  for (std::uint32_t v = 0; v < vehicles_.size(); ++v) {
+    const Vehicle& veh = vehicles_[v];
+    if (veh.next_restart >= veh.dut->restarts.size()) continue;
+    const DutRestart& r = veh.dut->restarts[veh.next_restart];
+    next = std::min(next, off_[v] ? r.on : r.off);
+  }
+  next_restart_.store(next.count(), std::memory_order_release);
 }
 
 void DutWatch::power_off(std::uint32_t v, const DutRestart& r) {

@@ -167,6 +167,11 @@ class DutWatch {
   const std::vector<BenchLine>* lines_ = nullptr;  ///< set by start()
   /// Per vehicle: its DUT is off (a restart fault), read by the player without the lock.
   std::unique_ptr<std::atomic<bool>[]> off_;
+  /// The scenario time of the next restart fault's power-off or restart of any vehicle
+  /// (Duration::max() when none is left): restarts_due() before it does not go to the loop.
+  std::atomic<Duration::rep> next_restart_{Duration::max().count()};
+  /// Under mutex_: next_restart_ from every vehicle's next restart fault.
+  void update_next_restart();
   /// Per vehicle: how many of its sent_wire_ends are set (release by the player, acquire by
   /// the watchdog: no lock per trigger).
   std::unique_ptr<std::atomic<std::size_t>[]> sent_;
