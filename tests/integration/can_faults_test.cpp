@@ -24,6 +24,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "can_log.hpp"
 #include "can_test_support.hpp"
 #include "nav/protocols/can_error.hpp"
 #include "nav/protocols/candump_log.hpp"
@@ -35,29 +36,6 @@ namespace {
 namespace fs = std::filesystem;
 namespace candump = protocols::candump;
 namespace can = protocols::can;
-
-std::vector<candump::Record> read_log(const fs::path& p) {
-  std::vector<candump::Record> out;
-  std::ifstream f(p);
-  for (std::string line; std::getline(f, line);) {
-    const auto r = candump::parse_line(line);
-    if (r.record) out.push_back(*r.record);
-  }
-  return out;
-}
-
-std::map<std::string, long> group(const std::string& text, const std::string& name) {
-  std::map<std::string, long> out;
-  const auto at = text.find(name + "{");
-  if (at == std::string::npos) return out;
-  const auto end = text.find('}', at);
-  std::stringstream s(text.substr(at + name.size() + 1, end - at - name.size() - 1));
-  for (std::string kv; std::getline(s, kv, ',');) {
-    const auto eq = kv.find('=');
-    if (eq != std::string::npos) out[kv.substr(0, eq)] = std::atol(kv.c_str() + eq + 1);
-  }
-  return out;
-}
 
 double seconds(const candump::Record& r) { return r.time ? r.time->to_seconds() : -1.0; }
 

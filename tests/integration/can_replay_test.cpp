@@ -46,6 +46,7 @@
 #include "nav/protocols/nmea2000.hpp"
 #include "nav/transport/can_socket.hpp"
 #include "../unit/navd/navd_pty_harness.hpp"
+#include "can_log.hpp"
 #include "can_test_support.hpp"
 
 namespace nav::testing {
@@ -169,20 +170,6 @@ CanFrame make_frame(std::uint32_t id, bool extended, std::vector<std::uint8_t> d
   f.dlc = static_cast<std::uint8_t>(data.size());
   std::copy(data.begin(), data.end(), f.data.begin());
   return f;
-}
-
-/// The frame lines of a candump log (every other line must be blank).
-std::vector<cd::Record> read_log(const fs::path& p) {
-  std::vector<cd::Record> out;
-  std::ifstream in(p);
-  std::string line;
-  while (std::getline(in, line)) {
-    const auto r = cd::parse_line(line);
-    if (r.status == cd::LineStatus::kIgnored) continue;
-    EXPECT_EQ(r.status, cd::LineStatus::kRecord) << "'" << line << "': " << r.error;
-    if (r.record) out.push_back(*r.record);
-  }
-  return out;
 }
 
 CanFrame from_record(const cd::Record& r) { return to_socket(r.frame); }

@@ -39,6 +39,7 @@
 
 #include "nav/bench/can_schedule.hpp"
 #include "nav/protocols/candump_log.hpp"
+#include "can_log.hpp"
 #include "can_test_support.hpp"
 #include "navbench_cli.hpp"
 
@@ -58,43 +59,12 @@ std::string find_program(const std::string& name) {
 
 std::string scenario() { return source_path("scenarios/mixed-can-serial.yaml"); }
 
-/// The frames of a candump log (-l / -L lines), in file order.
-std::vector<candump::Record> read_log(const fs::path& p) {
-  std::vector<candump::Record> out;
-  std::ifstream f(p);
-  std::string line;
-  int n = 0;
-  while (std::getline(f, line)) {
-    ++n;
-    const auto r = candump::parse_line(line);
-    if (r.status == candump::LineStatus::kIgnored) continue;
-    EXPECT_EQ(r.status, candump::LineStatus::kRecord) << p << ":" << n << ": " << r.error;
-    if (r.record) out.push_back(*r.record);
-  }
-  return out;
-}
-
 /// PGN of a 29-bit NMEA 2000 identifier (PDU1: destination byte not part of the PGN).
 std::uint32_t pgn_of(std::uint32_t id) {
   const std::uint32_t pf = (id >> 16) & 0xFF;
   std::uint32_t pgn = (id >> 8) & 0x3FFFF;
   if (pf < 240) pgn &= 0x3FF00;
   return pgn;
-}
-
-/// The numbers of a `name{k=v,...}` group in navd's exit line.
-std::map<std::string, long> group(const std::string& text, const std::string& name) {
-  std::map<std::string, long> out;
-  const auto at = text.find(name + "{");
-  if (at == std::string::npos) return out;
-  const auto end = text.find('}', at);
-  std::stringstream s(text.substr(at + name.size() + 1, end - at - name.size() - 1));
-  std::string kv;
-  while (std::getline(s, kv, ',')) {
-    const auto eq = kv.find('=');
-    if (eq != std::string::npos) out[kv.substr(0, eq)] = std::atol(kv.c_str() + eq + 1);
-  }
-  return out;
 }
 
 /// Checks of capture-can.log, dut.log and summary.json common to both modes.

@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "navbench_cli.hpp"
+#include "run_summary.hpp"
 
 namespace nav::testing {
 namespace {
@@ -47,10 +48,6 @@ std::vector<CaptureLine> lines_of(const fs::path& file, const std::string& port)
     out.push_back(std::move(c));
   }
   return out;
-}
-
-nlohmann::json summary(const fs::path& run) {
-  return nlohmann::json::parse(slurp(run / "summary.json"));
 }
 
 const nlohmann::json* link(const nlohmann::json& s, const std::string& from,

@@ -8,15 +8,12 @@
 
 #include "nav/reports/sha256.hpp"
 #include "navbench_cli.hpp"
+#include "run_summary.hpp"
 
 namespace nav::testing {
 namespace {
 
 namespace fs = std::filesystem;
-
-nlohmann::json summary(const fs::path& run) {
-  return nlohmann::json::parse(slurp(run / "summary.json"));
-}
 
 TEST(NavbenchReport, EveryRunFolderHasItsReportAndReportRebuildsItFromTheFiles) {
   const auto dir = fresh_dir("report-run");

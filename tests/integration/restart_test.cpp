@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "navbench_cli.hpp"
+#include "run_summary.hpp"
 
 namespace nav::testing {
 namespace {
@@ -18,17 +19,6 @@ namespace {
 namespace fs = std::filesystem;
 
 const std::string kScenario = "tests/integration/scenarios/dut_restart.yaml";
-
-nlohmann::json summary(const fs::path& run) {
-  return nlohmann::json::parse(slurp(run / "summary.json"));
-}
-
-const nlohmann::json* check(const nlohmann::json& s, const std::string& name) {
-  for (const auto& c : s["checks"]) {
-    if (c["name"] == name) return &c;
-  }
-  return nullptr;
-}
 
 std::size_t count(const std::string& text, const std::string& what) {
   std::size_t n = 0;

@@ -11,22 +11,12 @@
 #include <nlohmann/json.hpp>
 
 #include "navbench_cli.hpp"
+#include "run_summary.hpp"
 
 namespace nav::testing {
 namespace {
 
 namespace fs = std::filesystem;
-
-nlohmann::json summary(const fs::path& run) {
-  return nlohmann::json::parse(slurp(run / "summary.json"));
-}
-
-const nlohmann::json* check(const nlohmann::json& s, const std::string& name) {
-  for (const auto& c : s["checks"]) {
-    if (c["name"] == name) return &c;
-  }
-  return nullptr;
-}
 
 TEST(NavbenchRun, RealtimeScenarioWithNavdPasses) {
   const auto dir = fresh_dir("rt-pass");
