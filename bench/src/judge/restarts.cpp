@@ -6,12 +6,6 @@
 #include <string>
 
 namespace nav::bench::detail {
-namespace {
-
-/// Divided, not multiplied by 1e-9: 7.5 s is 7.5, not 7.500000000000001.
-double seconds(Duration d) { return static_cast<double>(d.count()) / 1e9; }
-
-}  // namespace
 
 RestartGaps restart_gaps(const JudgeInput& in, const Alignment& al) {
   const bool lockstep = in.scenario->mode == TimeMode::kLockstep;
@@ -21,8 +15,8 @@ RestartGaps restart_gaps(const JudgeInput& in, const Alignment& al) {
   for (std::size_t k = 0; k < in.restarts.size(); ++k) {
     const RestartRecord& r = in.restarts[k];
     reports::RestartRow row;
-    row.off_s = seconds(r.off_at);
-    row.on_s = seconds(r.on_at);
+    row.off_s = to_seconds_exact(r.off_at);
+    row.on_s = to_seconds_exact(r.on_at);
     row.ended = r.ended;
     const bool started = r.started != Timestamp{};
     row.started_again = started;
@@ -32,7 +26,7 @@ RestartGaps restart_gaps(const JudgeInput& in, const Alignment& al) {
     // The scenario time of an answer to trigger i that arrived at rx: realtime, its arrival;
     // lockstep (answers come between two writes), its trigger's, not before the restart.
     const auto when = [&](std::size_t i, Timestamp rx) {
-      return lockstep ? std::max(seconds(triggers[i].t_valid), row.on_s)
+      return lockstep ? std::max(to_seconds_exact(triggers[i].t_valid), row.on_s)
                       : to_seconds(rx - in.t0);
     };
     for (std::size_t i = 0; started && i < triggers.size(); ++i) {

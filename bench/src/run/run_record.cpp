@@ -120,8 +120,7 @@ reports::RunRecord make_run_record(const RunFacts& f, const RunIdentity& id) {
   rec.labels.assign(sc.labels.begin(), sc.labels.end());
   rec.mode = sc.mode == TimeMode::kRealtime ? "realtime" : "lockstep";
   rec.seed = sc.seed;
-  // Divided, not multiplied by 1e-9: 60 s is 60, not 60.00000000000001.
-  rec.duration_s = static_cast<double>(sc.duration.count()) / 1e9;
+  rec.duration_s = to_seconds_exact(sc.duration);  // 60 s is 60, not 60.00000000000001
   rec.stopped_at_s = in.stopped_at_s;
   rec.dut_command = primary.argv;
   if (!id.dut_executables.empty()) std::tie(rec.dut_executable, rec.dut_sha256) = id.dut_executables[0];

@@ -16,6 +16,9 @@ using Timestamp = std::chrono::nanoseconds;
 
 /// Seconds as double, for math kernels and reports only [s].
 constexpr double to_seconds(Duration d) { return static_cast<double>(d.count()) * 1e-9; }
+/// The same, divided rather than multiplied: the nearest double, so that a time written in a
+/// scenario reads back as written in reports (7.5 s is 7.5, not 7.500000000000001) [s].
+constexpr double to_seconds_exact(Duration d) { return static_cast<double>(d.count()) / 1e9; }
 
 /// Nearest integer nanoseconds of a time in seconds [s].
 constexpr Duration from_seconds(double s) {
