@@ -16,6 +16,7 @@
 #include "nav/bench/record.hpp"
 #include "nav/bench/replay.hpp"
 #include "nav/bench/runner.hpp"
+#include "nav/bench/witness.hpp"
 #include "nav/common/version.hpp"
 #include "nav/reports/html_report.hpp"
 #include "nav/reports/json_text.hpp"
@@ -121,6 +122,10 @@ int main(int argc, char** argv) {
       "reports give the seed used")
       ->transform(kUnsignedInteger);
   cmd->add_flag("-q,--quiet", run.quiet, "No progress lines on long runs");
+  cmd->add_flag("--witness", run.witness,
+                "Timing audit: `navbench witness` takes every DUT's place (realtime only; no "
+                "solutions, so no DUT checks); the report gives the arrival lateness the witness "
+                "saw next to the bench's write lateness, and the byte pacing of each line");
   std::uint64_t log_limit_mib = kDefaultLogLimit >> 20;
   cmd->add_option("--log-limit", log_limit_mib,
                   "Most MiB of each log a DUT fills (capture-rx.log, dut.log; default " +
@@ -248,6 +253,31 @@ int main(int argc, char** argv) {
                   "Capture (or candump log) to write (written as FILE.partial, renamed at the end)")
       ->required();
 
+  WitnessOptions witness;
+  std::int64_t witness_t0 = 0;
+  auto* wit = app.add_subcommand(
+      "witness",
+      "Timing witness: open the DUT's side of serial lines (pty slaves, or real ports wired "
+      "back by loopback cable) and write every read into a navbench capture, stamped on "
+      "CLOCK_MONOTONIC as it arrives; `navbench run --witness` starts one in the DUT's place");
+  wit->add_option("ports", witness.ports, "NAME=PATH@BAUD, one per line")->required();
+  wit->add_option("-o,--out", witness.out_path,
+                  "Capture to write (written as FILE.partial, renamed at the end)")
+      ->required();
+  wit->add_option("--duration", witness.duration_s,
+                  "Seconds to witness (default: until SIGINT/SIGTERM or every line hung up)")
+      ->check(CLI::NonNegativeNumber);
+  auto* witness_t0_opt = wit->add_option(
+      "--t0-ns", witness_t0,
+      "Stamp times relative to this CLOCK_MONOTONIC instant [ns] (default: the witness's "
+      "start); `navbench run --witness` gives its scenario time 0");
+  wit->add_flag("-q,--quiet", witness.quiet, "No summary line");
+  wit->footer(
+      "Runs at SCHED_FIFO priority 30 with its memory locked when permitted (as root), so that\n"
+      "a read is stamped as soon as its bytes arrive.\n\n"
+      "Exit codes: 0 done, 2 bad arguments, 3 a line cannot be opened or the capture cannot\n"
+      "be written.");
+
   std::string report_dir, report_out;
   auto* rpt = app.add_subcommand(
       "report", "Write the HTML report of a run folder (report.html) or of a campaign folder "
@@ -297,6 +327,10 @@ int main(int argc, char** argv) {
     return replay_capture(replay);
   }
   if (*rec) return record_ports(record);
+  if (*wit) {
+    if (witness_t0_opt->count() > 0) witness.t0_ns = witness_t0;
+    return run_witness(witness);
+  }
   if (*rpt) return write_report_file(report_dir, report_out);
   if (*cam) {
     campaign.mode = campaign_mode == "realtime" ? TimeMode::kRealtime : TimeMode::kLockstep;

@@ -49,9 +49,12 @@ void add_latency(const RunFolder& f, RunPlots& out) {
   } else {
     const json* deadline = deadline_check(f);
     const auto deadline_ms = deadline ? get_number(*deadline, "max_latency_ms") : std::nullopt;
+    // (value_or: GCC 12 sees *deadline_ms below as maybe uninitialized, wrongly.)
+    const bool show_deadline = deadline_ms.has_value() && !lockstep;
+    const double deadline_value = deadline_ms.value_or(0.0);
     json lines = json::array();
-    if (deadline_ms && !lockstep) {
-      lines.push_back(vline(*deadline_ms, "deadline " + ms_text(*deadline_ms), color::kBad));
+    if (show_deadline) {
+      lines.push_back(vline(deadline_value, "deadline " + ms_text(deadline_value), color::kBad));
     }
     std::vector<double> answered;
     double top = 0.0;
@@ -61,7 +64,7 @@ void add_latency(const RunFolder& f, RunPlots& out) {
         top = std::max(top, v);
       }
     }
-    if (deadline_ms && !lockstep) top = std::max(top, *deadline_ms);
+    if (show_deadline) top = std::max(top, deadline_value);
     json hist = histogram_plot("plot-latency-hist",
                                lockstep ? "Compute time, histogram" : "Latency, histogram",
                                "latency [ms]", answered, color::kEstimate, lines);
@@ -91,8 +94,8 @@ void add_latency(const RunFolder& f, RunPlots& out) {
     p["data"].push_back(numbers(pick(late, keep)));
     p["series"].push_back(series_json({"unanswered (drawn at the top)", "#000000", "points", 0, 5}));
     p["data"].push_back(numbers(pick(lost, keep)));
-    if (deadline_ms && !lockstep) {
-      p["hlines"] = json::array({{{"y", *deadline_ms}, {"label", "deadline"}, {"color", color::kBad}}});
+    if (show_deadline) {
+      p["hlines"] = json::array({{{"y", deadline_value}, {"label", "deadline"}, {"color", color::kBad}}});
     }
     p["windows"] = windows_json(fault_windows(f));
     p["note"] = std::to_string(t.size()) + " triggers: " + std::to_string(n_late) +
@@ -131,6 +134,21 @@ void add_lateness(const RunFolder& f, RunPlots& out) {
     if (p99) lines.push_back(vline(*p99, "p99 " + ms_text(*p99), color::kEstimate));
     s.plots.push_back(histogram_plot("plot-lateness-hist", "Lateness, histogram",
                                      "lateness [ms]", ms, color::kTruth, lines));
+    // A timing audit: what the witness saw, beside it.
+    const auto& arrival_us = f.lateness["arrival_lateness_us"];
+    std::vector<double> arrival_ms;
+    for (const double v : arrival_us) {
+      if (!std::isnan(v)) arrival_ms.push_back(v * 1e-3);
+    }
+    if (!arrival_ms.empty()) {
+      const auto a99 = get_number(member(member(f.summary, "witness"), "arrival_lateness"), "p99_ms");
+      json alines = json::array();
+      if (a99) alines.push_back(vline(*a99, "p99 " + ms_text(*a99), color::kEstimate));
+      s.plots.push_back(histogram_plot("plot-arrival-hist",
+                                       "Arrival lateness at the witness, histogram",
+                                       "arrival lateness [ms]", arrival_ms, color::kEstimate,
+                                       alines));
+    }
     const auto keep = decimate_min_max(t_sorted, {&ms_sorted}, kPlotBuckets);
     json p = plot_frame("plot-lateness-time", "Lateness against time", "shared",
                         "scheduled wire time [s]", "lateness [ms]");

@@ -94,10 +94,18 @@ void write_latency(const RunRecord& r, const std::string& dir) {
     }
   }
   OutputFile f(dir, "lateness.csv");
-  *f << "device,scheduled_s,actual_s,lateness_us\n";
+  // A timing audit adds when the witness read each message (empty: not seen intact).
+  *f << "device,scheduled_s,actual_s,lateness_us"
+     << (r.witness_run ? ",arrived_s,arrival_lateness_us\n" : "\n");
   for (const auto& l : r.lateness) {
     *f << l.device << ',' << l.scheduled_s << ',' << l.actual_s << ','
-       << (l.actual_s - l.scheduled_s) * 1e6 << '\n';
+       << (l.actual_s - l.scheduled_s) * 1e6;
+    if (r.witness_run) {
+      *f << ',';
+      if (l.arrived_s) *f << *l.arrived_s << ',' << (*l.arrived_s - l.scheduled_s) * 1e6;
+      else *f << ',';
+    }
+    *f << '\n';
   }
 }
 

@@ -19,6 +19,39 @@ std::string stats_row(const std::string& what, const json& st, const std::string
              "tnnnnt");
 }
 
+/// `run --witness`: each audited line as the witness saw it.
+std::string witness_table(const json& w) {
+  std::string h =
+      "<p class=\"note\">Timing audit (<code>navbench run --witness</code>): "
+      "<code>navbench witness</code>, a separate process, stood in the DUT's place and "
+      "stamped every byte as it arrived. Lateness is against each message's scheduled wire "
+      "time: the bench's when it wrote the first byte, the witness's when it read it. Pacing: "
+      "the time between the reads of a message's first and last bytes over the byte time of "
+      "the bytes between them (1 = exactly the baud), median over messages.</p><table>\n" +
+      header_row({"line", "baud", "messages seen / sent", "bytes as written / sent",
+                  "write p50 / p99 / max [ms]", "arrival p50 / p99 / max [ms]",
+                  "pacing median"});
+  const auto three = [](const json& st) {
+    return fixed(get_number(st, "p50_ms")) + " / " + fixed(get_number(st, "p99_ms")) + " / " +
+           fixed(get_number(st, "max_ms"));
+  };
+  for (const auto& l : get_array(w, "lines")) {
+    const auto matched = get_number(l, "bytes_matched"), sent = get_number(l, "bytes_sent");
+    std::string bytes = num(matched, 10) + " / " + num(sent, 10);
+    if (matched != sent || get_number(l, "bytes_seen") != sent) {
+      bytes = "<span class=\"lost\">" + bytes + " (" + num(get_number(l, "bytes_seen"), 10) +
+              " read)</span>";
+    }
+    h += row({html_escape(get_string(l, "device", "?")), num(get_number(l, "baud"), 10),
+              num(get_number(l, "messages_seen"), 10) + " / " + num(get_number(l, "messages"), 10),
+              bytes, three(member(l, "write_lateness")), three(member(l, "arrival_lateness")),
+              fixed(get_number(l, "pacing_median"), 4) + " (" +
+                  num(get_number(l, "pacing_messages"), 10) + ")"},
+             "tnnnnnn");
+  }
+  return h + "</table>\n";
+}
+
 std::string timing(const RunFolder& f) {
   const json& s = f.summary;
   const bool lockstep = get_string(s, "mode", "") == "lockstep";
@@ -38,8 +71,15 @@ std::string timing(const RunFolder& f) {
                      member(b, "write_lateness"), "");
     }
   }
+  const json& witness = member(s, "witness");
+  if (!witness.is_null()) {
+    h += stats_row("witness arrival lateness", member(witness, "arrival_lateness"),
+                   "first byte read by the witness − scheduled");
+  }
   const json& dut = member(s, "dut");
-  h += "</table><p class=\"note\">DUT: " + num(get_number(dut, "answers"), 10) + " solutions for " +
+  h += "</table>";
+  if (!witness.is_null()) h += witness_table(witness);
+  h += "<p class=\"note\">DUT: " + num(get_number(dut, "answers"), 10) + " solutions for " +
        num(get_number(dut, "triggers_sent"), 10) + " triggers, " +
        num(get_number(dut, "unmatched_answers"), 10) + " naming no trigger, " +
        num(get_number(dut, "malformed_output"), 10) + " malformed lines.</p>\n";

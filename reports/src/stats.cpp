@@ -22,6 +22,14 @@ Stats summarize(std::vector<double> values_s) {
   return s;
 }
 
+Stats witness_arrival_lateness(const RunRecord& r) {
+  std::vector<double> late;
+  for (const auto& l : r.lateness) {
+    if (l.arrived_s) late.push_back(*l.arrived_s - l.scheduled_s);
+  }
+  return summarize(std::move(late));
+}
+
 bool bench_late(const Stats& lateness, double budget_p99_s) {
   if (lateness.count == 0) return false;
   const double judged = lateness.count < kMinMessagesForP99 ? lateness.p50_s : lateness.p99_s;

@@ -207,6 +207,24 @@ void write_summary(const RunRecord& r, const std::string& dir) {
                                    {"min_propagation_s", l.min_propagation_s},
                                    {"max_propagation_s", l.max_propagation_s}});
   }
+  if (r.witness_run) {
+    json w = {{"arrival_lateness", stats_json(witness_arrival_lateness(r))},
+              {"lines", json::array()}};
+    for (const auto& l : r.witness) {
+      w["lines"].push_back({{"device", l.device},
+                            {"baud", l.baud},
+                            {"messages", l.messages},
+                            {"messages_seen", l.messages_seen},
+                            {"bytes_sent", l.bytes_sent},
+                            {"bytes_seen", l.bytes_seen},
+                            {"bytes_matched", l.bytes_matched},
+                            {"write_lateness", stats_json(l.write_lateness)},
+                            {"arrival_lateness", stats_json(l.arrival_lateness)},
+                            {"pacing_median", l.pacing_median ? json(*l.pacing_median) : json(nullptr)},
+                            {"pacing_messages", l.pacing_messages}});
+    }
+    j["witness"] = std::move(w);
+  }
   OutputFile f(dir, "summary.json");
   *f << dump_json(j, 2) << '\n';
 }

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 // The one-screen verdict printed at the end of a run.
+#include <algorithm>
 #include <cstdint>
 #include <cstdio>
 #include <sstream>
@@ -33,6 +34,41 @@ std::string byte_size(std::uint64_t n) {
   return buf;
 }
 
+/// `run --witness`: what reached the witness, its arrival lateness and the lines' pacing.
+std::string witness_text(const RunRecord& r) {
+  std::size_t sent = 0, seen = 0;
+  std::uint64_t bytes = 0;
+  double pace_lo = 0.0, pace_hi = 0.0;
+  bool paced = false;
+  for (const auto& w : r.witness) {
+    sent += w.messages;
+    seen += w.messages_seen;
+    bytes += w.bytes_sent;
+    if (!w.pacing_median) continue;
+    pace_lo = paced ? std::min(pace_lo, *w.pacing_median) : *w.pacing_median;
+    pace_hi = paced ? std::max(pace_hi, *w.pacing_median) : *w.pacing_median;
+    paced = true;
+  }
+  const Stats a = witness_arrival_lateness(r);
+  char line[256];
+  std::string o;
+  std::snprintf(line, sizeof line,
+                "  witness: %zu of %zu messages (%llu bytes) on %zu lines arrived as written\n",
+                seen, sent, static_cast<unsigned long long>(bytes), r.witness.size());
+  o += line;
+  std::snprintf(line, sizeof line,
+                "  witness arrival lateness  p50 %.3f ms  p99 %.3f ms  max %.3f ms  (%zu)\n",
+                a.p50_s * 1e3, a.p99_s * 1e3, a.max_s * 1e3, a.count);
+  o += line;
+  if (paced) {
+    std::snprintf(line, sizeof line,
+                  "  witness byte pacing  median %.4f to %.4f of the baud's byte time, by line\n",
+                  pace_lo, pace_hi);
+    o += line;
+  }
+  return o;
+}
+
 }  // namespace
 
 std::string verdict_text(const RunRecord& r) {
@@ -49,11 +85,17 @@ std::string verdict_text(const RunRecord& r) {
                   *r.stopped_at_s, r.duration_s);
     o << line;
   }
-  o << "  DUT: " << r.dut_status << "; " << r.answers << " solutions for " << r.triggers_sent
-    << " triggers";
+  if (r.witness_run) {
+    // A timing audit: the witness stood in the DUT's place.
+    o << "  timing audit: navbench witness in the DUT's place, " << r.dut_status << "; "
+      << r.triggers_sent << " triggers sent\n";
+  } else {
+    o << "  DUT: " << r.dut_status << "; " << r.answers << " solutions for " << r.triggers_sent
+      << " triggers";
   if (r.unmatched_answers) o << ", " << r.unmatched_answers << " naming no trigger";
-  if (r.malformed_output) o << ", " << r.malformed_output << " malformed lines";
-  o << '\n';
+    if (r.malformed_output) o << ", " << r.malformed_output << " malformed lines";
+    o << '\n';
+  }
   for (const auto& m : r.malformed_examples) {
     std::snprintf(line, sizeof line, "    malformed at t=%.3f s: ", m.rx_s);
     o << line << m.why << ": \"" << m.text << "\"\n";
@@ -142,10 +184,14 @@ std::string verdict_text(const RunRecord& r) {
     std::snprintf(line, sizeof line, "  bench lateness  n/a (no message was written)\n");
   }
   o << line;
-  std::snprintf(line, sizeof line, "  %-14s  p50 %.3f ms  p99 %.3f ms  max %.3f ms  (%zu)\n",
-                r.mode == "lockstep" ? "DUT compute" : "DUT latency", ms(r.dut_latency.p50_s),
-                ms(r.dut_latency.p99_s), ms(r.dut_latency.max_s), r.dut_latency.count);
-  o << line;
+  if (r.witness_run) {
+    o << witness_text(r);
+  } else {
+    std::snprintf(line, sizeof line, "  %-14s  p50 %.3f ms  p99 %.3f ms  max %.3f ms  (%zu)\n",
+                  r.mode == "lockstep" ? "DUT compute" : "DUT latency", ms(r.dut_latency.p50_s),
+                  ms(r.dut_latency.p99_s), ms(r.dut_latency.max_s), r.dut_latency.count);
+    o << line;
+  }
   o << "VERDICT: " << r.verdict << "   report: " << r.run_dir << "/report.html\n";
   return o.str();
 }

@@ -74,10 +74,31 @@ void DutWatch::arm_watchdog() {
   });
 }
 
-std::vector<std::string> DutWatch::argv_of(std::uint32_t v,
-                                           const std::vector<BenchLine>& lines) const {
+std::vector<std::string> DutWatch::witness_argv(std::uint32_t v,
+                                               const std::vector<BenchLine>& lines,
+                                               const std::filesystem::path& dir) const {
+  // navbench's own program: the witness is `navbench witness` on every serial line of the
+  // vehicle, its times from the run's t0, its capture in the run folder.
+  std::error_code ec;
+  const auto self = std::filesystem::read_symlink("/proc/self/exe", ec);
+  const std::string file = v == 0 ? "capture-witness.log"
+                                  : "capture-witness-" + vehicles_[v].name + ".log";
+  std::vector<std::string> argv = {ec ? std::string("navbench") : self.string(), "witness",
+                                   "--quiet", "--t0-ns", std::to_string(t0_.count()), "-o",
+                                   (dir / file).string()};
+  for (std::uint32_t d = 0; d < devices_.size(); ++d) {
+    if (devices_[d].vehicle != v || devices_[d].spec.on_can()) continue;
+    argv.push_back(devices_[d].spec.name + "=" + lines[d].path() + "@" +
+                   std::to_string(devices_[d].spec.baud));
+  }
+  return argv;
+}
+
+std::vector<std::string> DutWatch::argv_of(std::uint32_t v, const std::vector<BenchLine>& lines,
+                                           const std::filesystem::path& dir) const {
   const Vehicle& veh = vehicles_[v];
   std::vector<std::string> argv;
+  if (veh.dut->witness) return witness_argv(v, lines, dir);
   for (std::string a : veh.dut->command) {
     for (std::size_t d = 0; d <= devices_.size(); ++d) {
       if (d < devices_.size() && devices_[d].vehicle != v) continue;
@@ -104,7 +125,7 @@ void DutWatch::start(const std::vector<BenchLine>& lines, const std::filesystem:
   for (std::uint32_t v = 0; v < vehicles_.size(); ++v) {
     Vehicle& veh = vehicles_[v];
     veh.sent_wire_ends.assign(veh.triggers.size(), Timestamp{});
-    veh.argv = argv_of(v, lines);
+    veh.argv = argv_of(v, lines, dir);
     // The primary's DUT log and output capture keep their single-vehicle names.
     const std::string log_name = v == 0 ? "dut.log" : "dut-" + veh.name + ".log";
     auto dut = DutProcess::start(veh.argv, (dir / log_name).string());
@@ -183,6 +204,7 @@ bool DutWatch::vehicle_ok(Vehicle& veh, std::size_t sent, Timestamp now) {
     veh.status = "crashed: " + veh.proc->exit_description() + t;
     return false;
   }
+  if (veh.dut->witness) return true;  // it answers nothing: only a crash is watched
   // Hung: a trigger sent after the DUT's latest solution has waited longer than the
   // watchdog. A trigger the DUT rightly drops (it arrived damaged) is followed by solutions
   // to later triggers, so it does not count; nor does one sent while it was off or starting
@@ -330,6 +352,12 @@ void DutWatch::drain() {
   // count before its last answer.
   // The player waits here; the step runs on the loop thread, at each answer and every 5 ms.
   using namespace std::chrono_literals;
+  if (std::all_of(vehicles_.begin(), vehicles_.end(),
+                  [](const Vehicle& v) { return v.dut->witness; })) {
+    // Witnesses answer nothing: the last bytes get kWitnessDrain to reach them.
+    loop_.wait_until(monotonic_now() + kWitnessDrain, 5ms, [this] { return stop_ || !ok(); });
+    return;
+  }
   const Timestamp end = monotonic_now() + max_watchdog();
   for (auto& v : vehicles_) v.reader->set_on_answer([this] { loop_.poke(); });
   loop_.wait_until(end, 5ms, [this] {

@@ -73,6 +73,10 @@ struct Vehicle {
   std::string status;   ///< (watched)
 };
 
+/// A run of witnesses (DutSpec::witness) waits this long after its last write, for the bytes
+/// still on their way to reach them.
+inline constexpr Duration kWitnessDrain = std::chrono::milliseconds(200);
+
 class DutWatch {
  public:
   /// stop: set by SIGINT/SIGTERM; every wait ends when it is. loop: where the output readers
@@ -154,7 +158,11 @@ class DutWatch {
   void power_off(std::uint32_t v, const DutRestart& r);
   /// False (and the vehicle failed) when the command could not be started again.
   bool power_on(std::uint32_t v, const DutRestart& r);
-  std::vector<std::string> argv_of(std::uint32_t v, const std::vector<BenchLine>& lines) const;
+  std::vector<std::string> argv_of(std::uint32_t v, const std::vector<BenchLine>& lines,
+                                   const std::filesystem::path& dir) const;
+  /// `navbench witness` in vehicle v's DUT's place (DutSpec::witness).
+  std::vector<std::string> witness_argv(std::uint32_t v, const std::vector<BenchLine>& lines,
+                                        const std::filesystem::path& dir) const;
 
   const Scenario& sc_;
   const std::vector<RunDevice>& devices_;

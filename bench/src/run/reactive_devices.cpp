@@ -26,7 +26,11 @@ ReactiveDevices::ReactiveDevices(const Scenario& sc, const std::vector<RunDevice
   for (std::uint32_t d = 0; d < n; ++d) {
     const auto& dev = devices[d].spec;
     const DeviceKind& kind = device_kind(dev);
-    if (kind.commanded) streaming_[d] = dev.config<emulators::Gx3Config>().continuous ? 1 : 0;
+    // A witness sends no start command: a timing audit has the GX3 stream from power-on.
+    const DutSpec& dut = devices[d].vehicle == 0 ? sc.dut : sc.peers[devices[d].vehicle - 1].dut;
+    if (kind.commanded) {
+      streaming_[d] = dev.config<emulators::Gx3Config>().continuous || dut.witness ? 1 : 0;
+    }
     if (kind.link == DeviceKind::Link::kPolled) {
       polled_.push_back(std::make_unique<emulators::KellerEmulator>(
           dev.config<emulators::KellerConfig>(), *devices[d].truth, dev.faults,
@@ -182,7 +186,7 @@ void ReactiveDevices::send_due_answers(Duration scenario_t) {
     lines_[a.device].flush();
     if (realtime) {
       log_.lateness.push_back(
-          LatenessEntry{a.device, to_seconds(a.message.t_send), to_seconds(stamp)});
+          LatenessEntry{a.device, 0, to_seconds(a.message.t_send), to_seconds(stamp)});
     }
     // Kept for the report's count of answers its measurement faults changed; only the times
     // are needed, and only when it has such faults (a long run's memory stays flat).

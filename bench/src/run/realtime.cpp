@@ -5,7 +5,11 @@
 #include <sched.h>
 #include <sys/prctl.h>
 
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <cerrno>
+#include <cstdint>
 
 namespace nav::bench {
 
@@ -21,6 +25,20 @@ void try_realtime_priority(int priority) {
   sched_param p{};
   p.sched_priority = priority;
   (void)::pthread_setschedparam(::pthread_self(), SCHED_FIFO, &p);
+}
+
+CpuWakeLatencyHold::CpuWakeLatencyHold() {
+  fd_ = ::open("/dev/cpu_dma_latency", O_WRONLY | O_CLOEXEC);
+  if (fd_ < 0) return;
+  const std::int32_t zero = 0;  // µs; the request holds while the file stays open
+  if (::write(fd_, &zero, sizeof zero) != static_cast<ssize_t>(sizeof zero)) {
+    ::close(fd_);
+    fd_ = -1;
+  }
+}
+
+CpuWakeLatencyHold::~CpuWakeLatencyHold() {
+  if (fd_ >= 0) ::close(fd_);
 }
 
 }  // namespace nav::bench

@@ -35,6 +35,7 @@ inline FilePtr open_file(const std::filesystem::path& p) {
 /// One serial message's lateness (realtime): its device (run order) and times since T0 [s].
 struct LatenessEntry {
   std::uint32_t device = 0;
+  std::uint32_t index = 0;   ///< the message in its device's stream (0 for an answer)
   double scheduled_s = 0.0;  ///< scheduled wire time of its first byte
   double actual_s = 0.0;     ///< when its first byte was written
 };

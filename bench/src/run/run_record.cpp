@@ -153,10 +153,12 @@ reports::RunRecord make_run_record(const RunFacts& f, const RunIdentity& id) {
   rec.latency = std::move(j.latency);
   rec.dut_latency = j.dut_latency;
   std::vector<double> late;
-  for (const auto& l : f.log.lateness.read_all()) {
+  const std::vector<LatenessEntry> sent = f.log.lateness.read_all();
+  for (const auto& l : sent) {
     late.push_back(l.actual_s - l.scheduled_s);
     rec.lateness.push_back({f.devices[l.device].spec.name, l.scheduled_s, l.actual_s});
   }
+  if (f.witness) add_witness(f, sent, rec);
   rec.bench_lateness = reports::summarize(late);
   rec.lateness_budget_p99_s = to_seconds(sc.lateness_budget_p99);
   rec.lateness_over_budget = static_cast<std::size_t>(std::count_if(
@@ -214,7 +216,16 @@ std::pair<std::string, int> verdict_of(reports::RunRecord& r, bool interrupted, 
                       " messages over the lateness budget), but the DUT failed in a way no "
                       "timing explains: " + dut_fault);
   }
-  if (any_failed) return {"FAIL", kExitFail};
+  // A timing audit fails when a byte the bench wrote did not reach the witness intact.
+  bool lost = false;
+  for (const auto& w : r.witness) {
+    if (w.bytes_matched == w.bytes_sent && w.bytes_seen == w.bytes_sent) continue;
+    lost = true;
+    r.notes.push_back("witness: '" + w.device + "' " + std::to_string(w.bytes_sent) +
+                      " bytes written, " + std::to_string(w.bytes_seen) + " read, the first " +
+                      std::to_string(w.bytes_matched) + " as written");
+  }
+  if (any_failed || lost) return {"FAIL", kExitFail};
   return {"PASS", kExitPass};
 }
 

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "lines/bench_line.hpp"
+#include "nav/bench/capture.hpp"
 #include "nav/reports/run_record.hpp"
 #include "run/can_sender.hpp"
 #include "run/device_streams.hpp"
@@ -31,6 +32,9 @@ struct RunFacts {
   const std::vector<std::size_t>& suppressed;  ///< per device (WirePlayer)
   Timestamp t0{};
   bool interrupted = false;
+  /// `run --witness`: every read of every witness (its port named as the bench names the
+  /// device), in the order read; null otherwise.
+  const std::vector<CaptureLine>* witness = nullptr;
 };
 
 /// Who and what ran: read by the caller (files, uname).
@@ -46,6 +50,12 @@ struct RunIdentity {
 /// Judges the primary vehicle, aligns every vehicle's solutions, and gathers devices, faults,
 /// CAN bus, peers and acoustic links; sets the verdict. wall_time_s is left to the caller.
 reports::RunRecord make_run_record(const RunFacts& f, const RunIdentity& id);
+
+/// `run --witness` (witness_record.cpp): rec.witness, one row per line of a streaming device
+/// (its scheduled messages `sent`, in write order, against what the witness read), and the
+/// arrival time of each message in rec.lateness (in the order of `sent`).
+void add_witness(const RunFacts& f, const std::vector<LatenessEntry>& sent,
+                 reports::RunRecord& rec);
 
 /// The verdict and exit code, in this order of precedence: INTERRUPTED (3), DUT crashed (4),
 /// DUT hung (4), BENCH-LATE (3: r.bench_late), FAIL (1: a judged check failed), PASS (0).

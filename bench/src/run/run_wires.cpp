@@ -208,7 +208,8 @@ void RunWires::wrote(const Chunk& c, std::size_t written, Timestamp start) {
   const ScheduledMessage& m = schedule_.messages[c.message];
   p_.log->tally.add(m.device, c.t, 0, written, c.length - written);
   if (!lockstep_ && c.offset == 0) {
-    p_.log->lateness.push_back(LatenessEntry{m.device, to_seconds(c.t), to_seconds(start - t0_)});
+    p_.log->lateness.push_back(
+        LatenessEntry{m.device, m.index, to_seconds(c.t), to_seconds(start - t0_)});
   }
 }
 

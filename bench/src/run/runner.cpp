@@ -23,10 +23,14 @@
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <sstream>
 #include <optional>
 #include <stdexcept>
 
 #include "lines/bench_line.hpp"
+#include "nav/bench/capture.hpp"
 #include "nav/bench/dut_process.hpp"
 #include "nav/bench/realtime.hpp"
 #include "nav/common/version.hpp"
@@ -108,6 +112,36 @@ Result<std::vector<BenchLine>> open_lines(const Scenario& sc) {
   return lines;
 }
 
+/// `run --witness`: what every vehicle's witness read (capture-witness*.log in dir); a
+/// damaged capture is a bench error.
+std::vector<CaptureLine> read_witness_captures(const fs::path& dir, const DutWatch& watch) {
+  std::vector<CaptureLine> all;
+  for (std::size_t v = 0; v < watch.vehicles().size(); ++v) {
+    const fs::path file = dir / (v == 0 ? std::string("capture-witness.log")
+                                        : "capture-witness-" + watch.vehicles()[v].name + ".log");
+    std::ifstream in(file, std::ios::binary);
+    if (!in) continue;  // it failed (the watch says how): its lines count as not seen
+    std::ostringstream text;
+    text << in.rdbuf();
+    auto lines = parse_capture(text.str(), file.filename().string());
+    if (!lines) throw std::runtime_error(lines.error().detail);
+    std::move(lines->begin(), lines->end(), std::back_inserter(all));
+  }
+  return all;
+}
+
+/// `run --witness`: the scenario as a timing audit plays it: realtime, the witness in every
+/// DUT's place (no restart faults: it audits the bench, not a DUT), no DUT checks.
+void make_timing_audit(Scenario& sc) {
+  sc.mode = TimeMode::kRealtime;
+  sc.checks.clear();
+  for (std::size_t v = 0; v <= sc.peers.size(); ++v) {
+    DutSpec& dut = v == 0 ? sc.dut : sc.peers[v - 1].dut;
+    dut.witness = true;
+    dut.restarts.clear();
+  }
+}
+
 /// Runs the scenario into dir (its .partial folder): the captures, the DUT logs and
 /// scenario.yaml as it plays, then returns the record of the run.
 reports::RunRecord play_run(const Scenario& sc, const VehicleTruths& truths,
@@ -163,6 +197,7 @@ reports::RunRecord play_run(const Scenario& sc, const VehicleTruths& truths,
   }
   watch.finish(wires.suppressed());
   std::fflush(log.tx.get());
+  const auto witness = o.witness ? read_witness_captures(dir, watch) : std::vector<CaptureLine>{};
   if (log.can) std::fflush(log.can.get());
 
   id.scenario_sha256 = reports::sha256_file((dir / "scenario.yaml").string()).value_or("");
@@ -172,7 +207,8 @@ reports::RunRecord play_run(const Scenario& sc, const VehicleTruths& truths,
   id.kernel = host.kernel;
   for (const auto& veh : watch.vehicles()) id.dut_executables.push_back(executable_identity(veh.argv));
   const RunFacts facts{sc,  devices, lines, streams, watch, reactive, can,
-                       log, wires.suppressed(), t0, g_interrupted.load()};
+                       log, wires.suppressed(), t0, g_interrupted.load(),
+                       o.witness ? &witness : nullptr};
   reports::RunRecord rec = make_run_record(facts, id);
   rec.wall_time_s = to_seconds(monotonic_now() - wall_start);
   return rec;
@@ -241,7 +277,15 @@ int run_scenario(const RunOptions& o) {
     return kExitUsage;
   }
   VehicleTruths truths = std::move(*built);
-  if (auto found = find_dut_programs(*sc); !found) {
+  if (o.witness) {
+    if (o.mode == TimeMode::kLockstep) {
+      std::fprintf(stderr, "navbench: --witness is a timing audit and runs in realtime: "
+                           "leave out --mode lockstep\n");
+      return kExitUsage;
+    }
+    make_timing_audit(*sc);
+  }
+  if (auto found = find_dut_programs(*sc); !o.witness && !found) {
     std::fprintf(stderr, "navbench: %s\n", found.error().detail.c_str());
     return kExitUsage;
   }

@@ -36,6 +36,8 @@ struct RunOptions {
   std::optional<std::uint64_t> seed;  ///< overrides the scenario's seed
   std::string out_dir;           ///< run folder; default runs/<name>-<UTC time>
   bool quiet = false;            ///< no progress lines
+  /// A timing audit: `navbench witness` in every DUT's place (realtime; no DUT checks).
+  bool witness = false;
   /// Most bytes of each log a DUT fills (capture-rx*.log, dut*.log); 0: no limit.
   std::uint64_t log_limit = kDefaultLogLimit;
 };

@@ -93,6 +93,10 @@ struct DutSpec {
   Duration startup{std::chrono::milliseconds(500)};  ///< wait before scenario time 0
   Duration watchdog{std::chrono::seconds(2)};        ///< no answer this long = hung
   std::vector<DutRestart> restarts;  ///< in time order, windows apart (dut.faults)
+  /// `navbench run --witness`: navbench's timing witness stands in the DUT's place. It answers
+  /// no trigger, so nothing waits for answers and only a crash is watched; `command` is
+  /// unused (the run starts the witness on every serial line of the vehicle).
+  bool witness = false;
 };
 
 /// One check of the DUT's output against truth.

@@ -66,6 +66,29 @@ struct LatenessRow {
   std::string device;
   double scheduled_s = 0.0;  ///< scheduled wire time of the first byte, since T0 [s]
   double actual_s = 0.0;     ///< when it was written, since T0 [s]
+  /// `run --witness`: when the witness read its first byte, since T0 [s]; none when the
+  /// witness did not see it intact.
+  std::optional<double> arrived_s{};
+};
+
+/// `run --witness`: one serial line as the timing witness saw it (its scheduled messages; a
+/// line that carries answers or deliveries is not audited).
+struct WitnessRow {
+  std::string device;
+  int baud = 0;
+  std::size_t messages = 0;         ///< messages the bench wrote
+  std::size_t messages_seen = 0;    ///< of them, seen whole and intact by the witness
+  std::uint64_t bytes_sent = 0, bytes_seen = 0;
+  /// Bytes from the start of the line the witness saw exactly as written; bytes_sent when
+  /// everything arrived intact and in order.
+  std::uint64_t bytes_matched = 0;
+  Stats write_lateness;             ///< the bench's own: first byte written − scheduled
+  Stats arrival_lateness;           ///< the witness's: first byte read − scheduled
+  /// Median over messages of the time between the reads of its first and last bytes ÷ the
+  /// byte time of the bytes between them (10 bits per byte at the baud); none when no
+  /// message arrived in more than one read.
+  std::optional<double> pacing_median{};
+  std::size_t pacing_messages = 0;  ///< messages the median is over
 };
 
 /// A truth sample for truth.tum.
@@ -241,8 +264,14 @@ struct RunRecord {
   std::vector<PeerRow> peers;             ///< empty for a single-vehicle scenario
   std::vector<ModemLinkRow> modem_links;  ///< every directed link between two modems
   std::vector<CanBusRow> can_buses;       ///< empty without vehicle.can
+  /// `run --witness`: a timing audit (the witness in every DUT's place), its lines.
+  bool witness_run = false;
+  std::vector<WitnessRow> witness;
   double wall_time_s = 0.0;         ///< how long the run took
 };
+
+/// `run --witness`: the arrival lateness of every message the witness saw intact, all lines.
+Stats witness_arrival_lateness(const RunRecord& r);
 
 /// Writes summary.json, junit.xml, truth.tum and estimate.tum (the primary vehicle),
 /// truth-<vehicle>.tum and estimate-<vehicle>.tum (every vehicle), timeseries.csv,
