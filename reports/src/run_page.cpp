@@ -135,6 +135,12 @@ std::string identity(const RunFolder& f) {
   h += detail::kv_row("Started (UTC)", detail::text_or_missing(get_string(s, "started_utc")));
   h += detail::kv_row("Duration", fixed(get_number(s, "duration_s"), 1) + " s scenario time, " +
                                       fixed(get_number(s, "wall_time_s"), 1) + " s wall time");
+  if (const auto cpu = get_number(s, "bench_cpu_s")) {
+    const auto wall = get_number(s, "wall_time_s").value_or(0.0);
+    h += detail::kv_row("Bench CPU", fixed(*cpu, 1) + " s (" +
+                                         (wall > 0 ? fixed(100.0 * *cpu / wall, 1) : std::string("?")) +
+                                         " % of one core; its DUTs not counted)");
+  }
   h += detail::kv_row("navbench version",
                       detail::text_or_missing(get_string(member(s, "versions"), "navbench")));
   const auto argv = strings(member(dut, "command"));

@@ -61,8 +61,11 @@ std::string timing(const RunFolder& f) {
   h += stats_row("bench lateness", bl,
                  lockstep ? "lockstep: virtual time"
                           : "budget p99 " + fixed(get_number(bl, "budget_p99_ms")) + " ms");
-  h += stats_row(lockstep ? "DUT compute time" : "DUT latency", member(s, "dut_latency"),
-                 lockstep ? "not judged in lockstep" : "trigger's last byte to the answer");
+  const json& witness = member(s, "witness");
+  if (witness.is_null()) {  // a timing audit has no DUT
+    h += stats_row(lockstep ? "DUT compute time" : "DUT latency", member(s, "dut_latency"),
+                   lockstep ? "not judged in lockstep" : "trigger's last byte to the answer");
+  }
   for (const auto& b : get_array(s, "can_buses")) {
     h += stats_row("CAN " + get_string(b, "interface", "?") + " queueing", member(b, "queueing_delay"),
                    "bus load " + fixed(get_number(b, "bus_load").value_or(0) * 100.0, 2) + " %");
@@ -71,14 +74,13 @@ std::string timing(const RunFolder& f) {
                      member(b, "write_lateness"), "");
     }
   }
-  const json& witness = member(s, "witness");
   if (!witness.is_null()) {
     h += stats_row("witness arrival lateness", member(witness, "arrival_lateness"),
                    "first byte read by the witness − scheduled");
   }
   const json& dut = member(s, "dut");
   h += "</table>";
-  if (!witness.is_null()) h += witness_table(witness);
+  if (!witness.is_null()) return h + witness_table(witness) + "</section>\n";
   h += "<p class=\"note\">DUT: " + num(get_number(dut, "answers"), 10) + " solutions for " +
        num(get_number(dut, "triggers_sent"), 10) + " triggers, " +
        num(get_number(dut, "unmatched_answers"), 10) + " naming no trigger, " +

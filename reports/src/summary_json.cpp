@@ -120,6 +120,7 @@ void write_summary(const RunRecord& r, const std::string& dir) {
   j["stopped_at_s"] = r.stopped_at_s ? json(*r.stopped_at_s) : json(nullptr);
   j["started_utc"] = r.started_utc;
   j["wall_time_s"] = r.wall_time_s;
+  j["bench_cpu_s"] = r.bench_cpu_s;
   j["verdict"] = r.verdict;
   j["exit_code"] = r.exit_code;
   j["dut"] = {{"command", r.dut_command},

@@ -74,9 +74,11 @@ std::string witness_text(const RunRecord& r) {
 std::string verdict_text(const RunRecord& r) {
   std::ostringstream o;
   char line[256];
-  std::snprintf(line, sizeof line, "navbench run %s  (seed %llu, %s, %.1f s, wall %.1f s)\n",
+  std::snprintf(line, sizeof line,
+                "navbench run %s  (seed %llu, %s, %.1f s, wall %.1f s, bench CPU %.0f %%)\n",
                 r.scenario_name.c_str(), static_cast<unsigned long long>(r.seed), r.mode.c_str(),
-                r.duration_s, r.wall_time_s);
+                r.duration_s, r.wall_time_s,
+                r.wall_time_s > 0 ? 100.0 * r.bench_cpu_s / r.wall_time_s : 0.0);
   o << line;
   if (r.stopped_at_s) {
     std::snprintf(line, sizeof line,

@@ -16,6 +16,7 @@
 #include "nav/bench/runner.hpp"
 
 #include <signal.h>
+#include <sys/resource.h>
 
 #include <algorithm>
 #include <atomic>
@@ -70,6 +71,14 @@ std::pair<std::string, std::string> executable_identity(const std::vector<std::s
   const auto path = DutProcess::resolve(argv.front());
   if (!path) return {};
   return {*path, reports::sha256_file(*path).value_or("")};
+}
+
+/// CPU time of this process so far, all its threads (user + system) [s].
+double process_cpu_seconds() {
+  rusage u{};
+  ::getrusage(RUSAGE_SELF, &u);
+  return static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
+         static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec) * 1e-6;
 }
 
 std::string utc_now(const char* format) {
@@ -152,6 +161,7 @@ reports::RunRecord play_run(const Scenario& sc, const VehicleTruths& truths,
   RunIdentity id;
   id.started_utc = utc_now("%Y-%m-%dT%H:%M:%SZ");
   const Timestamp wall_start = monotonic_now();
+  const double cpu_start = process_cpu_seconds();
   RunLog log;
   std::vector<RunDevice> devices = run_devices(sc);
   mount_devices(devices, truths);
@@ -211,6 +221,7 @@ reports::RunRecord play_run(const Scenario& sc, const VehicleTruths& truths,
                        o.witness ? &witness : nullptr};
   reports::RunRecord rec = make_run_record(facts, id);
   rec.wall_time_s = to_seconds(monotonic_now() - wall_start);
+  rec.bench_cpu_s = process_cpu_seconds() - cpu_start;
   return rec;
 }
 

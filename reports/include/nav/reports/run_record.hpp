@@ -268,6 +268,9 @@ struct RunRecord {
   bool witness_run = false;
   std::vector<WitnessRow> witness;
   double wall_time_s = 0.0;         ///< how long the run took
+  /// CPU time navbench itself used from the start of its play to its end (user + system, all
+  /// its threads, not its DUTs) [s]; bench_cpu_s / wall_time_s is its share of one core.
+  double bench_cpu_s = 0.0;
 };
 
 /// `run --witness`: the arrival lateness of every message the witness saw intact, all lines.
