@@ -11,8 +11,8 @@
 namespace nav::bench::detail {
 
 CanSender::CanSender(const Scenario& sc, std::vector<CanTxFrame> frames,
-                     std::optional<transport::CanSocket> socket, std::size_t devices, RunLog& log)
-    : sc_(sc), frames_(std::move(frames)), socket_(std::move(socket)), log_(log) {
+                     std::vector<transport::CanSocket> sockets, std::size_t devices, RunLog& log)
+    : sc_(sc), frames_(std::move(frames)), sockets_(std::move(sockets)), log_(log) {
   sent_.assign(devices, 0);
   bytes_.assign(devices, 0);
   dropped_.assign(devices, 0);
@@ -42,15 +42,16 @@ bool CanSender::send(const CanTxFrame& tx, Duration queue_wait) {
   f.error = tx.f.frame.error;
   f.dlc = static_cast<std::uint8_t>(tx.f.frame.length());
   std::copy(tx.f.frame.data.begin(), tx.f.frame.data.end(), f.data.begin());
+  transport::CanSocket& socket = sockets_[tx.bus];
   const Timestamp start = monotonic_now();
-  auto r = socket_->send(f);
+  auto r = socket.send(f);
   if (!r && r.error().code == ErrorCode::kTimeout && sc_.mode == TimeMode::kLockstep) {
     // Lockstep: wait for room in the transmit queue, as long as the watchdog allows.
     const Timestamp give_up = monotonic_now() + queue_wait;
     while (!r && r.error().code == ErrorCode::kTimeout && monotonic_now() < give_up) {
-      pollfd p{socket_->fd(), POLLOUT, 0};
+      pollfd p{socket.fd(), POLLOUT, 0};
       ::poll(&p, 1, 10);
-      r = socket_->send(f);
+      r = socket.send(f);
     }
   }
   const std::uint32_t d = tx.device;
@@ -70,12 +71,12 @@ bool CanSender::send(const CanTxFrame& tx, Duration queue_wait) {
   // Realtime stamps the capture when the frame was written; lockstep with its due time.
   const bool realtime = sc_.mode == TimeMode::kRealtime;
   const Duration stamp = realtime ? start - t0_ : tx.due;
-  if (realtime) log_.can_lateness.push_back(to_seconds(stamp - tx.due));
+  if (realtime) log_.can_lateness.push_back({tx.bus, to_seconds(stamp - tx.due)});
   protocols::candump::Record rec;
   const auto ns = std::max<std::int64_t>(0, stamp.count());
   rec.time = protocols::candump::Timestamp{static_cast<std::uint64_t>(ns / 1000000000),
                                            static_cast<std::uint32_t>(ns % 1000000000), 6, 10};
-  rec.interface = sc_.can->interface;
+  rec.interface = sc_.can_buses[tx.bus].interface;
   rec.frame = tx.f.frame;
   const std::string line = protocols::candump::format_line(rec) + "\n";
   std::fputs(line.c_str(), log_.can.get());

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
-// The run's CAN bus: every device's frames, in bus order, written to the one socket at their
-// due times (realtime) or before the serial message they precede (lockstep), each captured in
-// capture-can.log. Private to nav_bench.
+// The run's CAN buses: every device's frames, in due order, each written to its bus's socket
+// at its due time (realtime) or before the serial message it precedes (lockstep), each
+// captured in capture-can.log. Private to nav_bench.
 #pragma once
 
 #include <cstdint>
@@ -18,9 +18,9 @@ namespace nav::bench::detail {
 
 class CanSender {
  public:
-  /// frames: DeviceStreams::can (bus order); socket: the bus (none without vehicle.can).
+  /// frames: DeviceStreams::can (due order); sockets: one per bus (Scenario::can_buses).
   CanSender(const Scenario& sc, std::vector<CanTxFrame> frames,
-            std::optional<transport::CanSocket> socket, std::size_t devices, RunLog& log);
+            std::vector<transport::CanSocket> sockets, std::size_t devices, RunLog& log);
 
   void set_t0(Timestamp t0) { t0_ = t0; }
   /// Sends every frame due at or before scenario time t, in bus order, each after wait(its
@@ -43,7 +43,7 @@ class CanSender {
 
   const Scenario& sc_;
   std::vector<CanTxFrame> frames_;
-  std::optional<transport::CanSocket> socket_;
+  std::vector<transport::CanSocket> sockets_;
   RunLog& log_;
   Timestamp t0_{};
   std::size_t next_ = 0;

@@ -12,15 +12,16 @@
 namespace nav::bench::detail {
 namespace {
 
-/// Every CAN device's frames on the bus schedule of the scenario's bus.
-void generate_can(const Scenario& sc, const std::vector<RunDevice>& devices,
+/// The frames of bus b's devices on its schedule, in bus order, then what the DUT's controller
+/// receives of them (error reports, bus-off); appended to out.can.
+void generate_bus(const Scenario& sc, const std::vector<RunDevice>& devices, std::uint32_t b,
                   DeviceStreams& out) {
-  out.can_times.assign(devices.size(), {});
-  if (!sc.can) return;
+  const CanBusSpec& bus = sc.can_buses[b];
   std::vector<CanFrameRequest> requests;
+  std::vector<CanTxFrame> frames_of_bus;
   for (std::uint32_t d = 0; d < devices.size(); ++d) {
     const auto& dev = devices[d].spec;
-    if (!dev.on_can()) continue;
+    if (!dev.on_can() || dev.can_bus != b) continue;
     const auto seed = emulators::device_seed(sc.seed, dev.name);
     auto frames = device_kind(dev).frames(dev, *devices[d].truth, sc.duration, seed);
     for (const auto& f : frames) {
@@ -31,7 +32,7 @@ void generate_can(const Scenario& sc, const std::vector<RunDevice>& devices,
     }
     // Its frame faults, before the bus: lost, sent twice, a flood added.
     auto attempts =
-        apply_can_device_faults(std::move(frames), dev.can_faults, sc.can->bitrate_bps,
+        apply_can_device_faults(std::move(frames), dev.can_faults, bus.bitrate_bps,
                                 emulators::device_seed(sc.seed, dev.name + "/faults"),
                                 out.stream_faults[d]);
     for (auto& a : attempts) {
@@ -40,22 +41,40 @@ void generate_can(const Scenario& sc, const std::vector<RunDevice>& devices,
                                          static_cast<std::uint8_t>(a.f.frame.length())});
       CanTxFrame tx{d, std::move(a.f), {}, {}};
       tx.corrupted = a.corrupted;
-      out.can.push_back(std::move(tx));
+      frames_of_bus.push_back(std::move(tx));
     }
   }
-  out.can_slots = schedule_can_bus(requests, sc.can->bitrate_bps);
-  const double bit_ns = 1e9 / sc.can->bitrate_bps;
+  out.can_slots[b] = schedule_can_bus(requests, bus.bitrate_bps);
+  const double bit_ns = 1e9 / bus.bitrate_bps;
   const auto ifs = Duration(static_cast<Duration::rep>(std::llround(3.0 * bit_ns)));
-  for (std::size_t i = 0; i < out.can.size(); ++i) {
-    out.can[i].slot = out.can_slots[i];
-    out.can[i].due = out.can_slots[i].end - ifs;
+  for (std::size_t i = 0; i < frames_of_bus.size(); ++i) {
+    frames_of_bus[i].slot = out.can_slots[b][i];
+    frames_of_bus[i].due = out.can_slots[b][i].end - ifs;
   }
   // Bus order: one frame at a time, so ordering by start orders by due time too.
-  std::stable_sort(out.can.begin(), out.can.end(), [](const CanTxFrame& a, const CanTxFrame& b) {
-    return a.slot.start < b.slot.start;
-  });
+  std::stable_sort(frames_of_bus.begin(), frames_of_bus.end(),
+                   [](const CanTxFrame& x, const CanTxFrame& y) { return x.slot.start < y.slot.start; });
   // What the DUT's controller receives of it: error reports, bus-off.
-  apply_can_receiver(out.can, sc.can->faults, out.can_bus_faults);
+  apply_can_receiver(frames_of_bus, bus.faults, out.can_bus_faults[b]);
+  for (auto& tx : frames_of_bus) {
+    tx.bus = b;
+    out.can.push_back(std::move(tx));
+  }
+}
+
+/// Every CAN device's frames, each on its bus's schedule; the buses merged in due order.
+void generate_can(const Scenario& sc, const std::vector<RunDevice>& devices,
+                  DeviceStreams& out) {
+  out.can_times.assign(devices.size(), {});
+  out.can_slots.assign(sc.can_buses.size(), {});
+  out.can_bus_faults.assign(sc.can_buses.size(), {});
+  for (std::uint32_t b = 0; b < sc.can_buses.size(); ++b) generate_bus(sc, devices, b, out);
+  // One timeline for the sender: each bus keeps its order (stable), the buses interleave by
+  // due time.
+  if (sc.can_buses.size() > 1) {
+    std::stable_sort(out.can.begin(), out.can.end(),
+                     [](const CanTxFrame& x, const CanTxFrame& y) { return x.due < y.due; });
+  }
 }
 
 }  // namespace

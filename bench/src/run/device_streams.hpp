@@ -61,6 +61,7 @@ struct CanTxFrame {
   Duration due{};
   Delivery delivery = Delivery::kFrame;
   bool corrupted = false;  ///< an attempt destroyed on the wire (sent again after it)
+  std::uint32_t bus = 0;   ///< its bus: an index into Scenario::can_buses
 };
 
 struct DeviceStreams {
@@ -71,15 +72,16 @@ struct DeviceStreams {
   /// Per device: what its stream faults did (a polled device's faults act on its answers and
   /// are recorded by its emulator).
   std::vector<std::vector<emulators::FaultRecord>> stream_faults;
-  /// Every CAN frame of every device, in bus order.
+  /// Every CAN frame of every device: each bus in its bus order, the buses interleaved by due
+  /// time.
   std::vector<CanTxFrame> can;
-  /// The bus slots in the order the frames were requested (for the bus load).
-  std::vector<CanFrameSlot> can_slots;
+  /// Per bus: its slots in the order the frames were requested (for the bus load).
+  std::vector<std::vector<CanFrameSlot>> can_slots;
   /// Per device: its CAN frames' times of validity (t_valid) and readiness (t_send), in
   /// request order, for its measurement-fault records.
   std::vector<std::vector<emulators::WireMessage>> can_times;
-  /// What the faults of the DUT's CAN controller (vehicle.can.faults) did.
-  std::vector<emulators::FaultRecord> can_bus_faults;
+  /// Per bus: what the faults of the DUT's controller on it (vehicle.can faults) did.
+  std::vector<std::vector<emulators::FaultRecord>> can_bus_faults;
 };
 
 /// Every device's stream over [0, duration) from its truth (mount_devices()), each device's

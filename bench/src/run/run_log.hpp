@@ -49,7 +49,12 @@ struct RunLog {
   /// Realtime: every serial message's lateness, spilled to a file in the run folder as the
   /// run goes (SpillLog: a long run's memory does not grow with it).
   SpillLog<LatenessEntry> lateness;
-  std::vector<double> can_lateness;           ///< realtime: every CAN frame's [s]
+  /// Realtime: every CAN frame's lateness, with its bus.
+  struct CanLateness {
+    std::uint32_t bus = 0;
+    double lateness_s = 0.0;
+  };
+  std::vector<CanLateness> can_lateness;
 };
 
 }  // namespace nav::bench::detail

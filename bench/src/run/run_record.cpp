@@ -18,8 +18,8 @@ reports::DeviceRow device_row(const RunFacts& f, std::uint32_t d) {
                          emulators::device_seed(f.sc.seed, dev.name), total.messages,
                          total.bytes, total.bytes_dropped, f.suppressed[d]};
   if (dev.on_can()) {
-    row.port = f.sc.can->interface;
-    row.baud = static_cast<int>(f.sc.can->bitrate_bps);
+    row.port = f.sc.can_buses[dev.can_bus].interface;
+    row.baud = static_cast<int>(f.sc.can_buses[dev.can_bus].bitrate_bps);
     row.messages = f.can.frames_sent(d);
     row.bytes = f.can.bytes_sent(d);
     row.suppressed = 0;
@@ -30,12 +30,14 @@ reports::DeviceRow device_row(const RunFacts& f, std::uint32_t d) {
   return row;
 }
 
-reports::CanBusRow can_bus_row(const RunFacts& f) {
+reports::CanBusRow can_bus_row(const RunFacts& f, std::uint32_t b) {
   reports::CanBusRow bus;
-  bus.interface = f.sc.can->interface;
-  bus.bitrate_bps = f.sc.can->bitrate_bps;
-  std::vector<double> queueing;
-  for (const auto& tx : f.can.frames()) {
+  bus.interface = f.sc.can_buses[b].interface;
+  bus.bitrate_bps = f.sc.can_buses[b].bitrate_bps;
+  std::vector<double> queueing, lateness;
+  for (std::size_t k = 0; k < f.can.frames().size(); ++k) {
+    const CanTxFrame& tx = f.can.frames()[k];
+    if (tx.bus != b) continue;
     if (tx.device == kNoCanDevice) {  // a report of the DUT's controller: no bus time
       ++bus.error_reports;
       continue;
@@ -46,12 +48,16 @@ reports::CanBusRow can_bus_row(const RunFacts& f) {
     queueing.push_back(to_seconds(tx.slot.start - tx.f.t_ready));
   }
   for (std::uint32_t d = 0; d < f.devices.size(); ++d) {
+    if (!f.devices[d].spec.on_can() || f.devices[d].spec.can_bus != b) continue;
     bus.frames_sent += f.can.frames_sent(d);
     bus.frames_dropped += f.can.frames_dropped(d);
   }
-  bus.bus_load = can_bus_load(f.streams.can_slots, f.sc.duration);
+  for (const auto& l : f.log.can_lateness) {
+    if (l.bus == b) lateness.push_back(l.lateness_s);
+  }
+  bus.bus_load = can_bus_load(f.streams.can_slots[b], f.sc.duration);
   bus.queueing_delay = reports::summarize(std::move(queueing));
-  bus.write_lateness = reports::summarize(f.log.can_lateness);
+  bus.write_lateness = reports::summarize(std::move(lateness));
   return bus;
 }
 
@@ -71,8 +77,11 @@ void add_faults(const RunFacts& f, reports::RunRecord& rec) {
       rec.faults.push_back({dev.name, r.kind, r.start_s, r.end_s, r.messages_affected});
     }
   }
-  for (const auto& r : f.streams.can_bus_faults) {  // the DUT's CAN controller
-    rec.faults.push_back({f.sc.can->interface, r.kind, r.start_s, r.end_s, r.messages_affected});
+  for (std::size_t b = 0; b < f.streams.can_bus_faults.size(); ++b) {  // the DUT's controller
+    for (const auto& r : f.streams.can_bus_faults[b]) {
+      rec.faults.push_back(
+          {f.sc.can_buses[b].interface, r.kind, r.start_s, r.end_s, r.messages_affected});
+    }
   }
 }
 
@@ -164,7 +173,7 @@ reports::RunRecord make_run_record(const RunFacts& f, const RunIdentity& id) {
   rec.lateness_over_budget = static_cast<std::size_t>(std::count_if(
       late.begin(), late.end(), [&](double s) { return s > rec.lateness_budget_p99_s; }));
   for (std::uint32_t d = 0; d < f.devices.size(); ++d) rec.devices.push_back(device_row(f, d));
-  if (sc.can) rec.can_buses.push_back(can_bus_row(f));
+  for (std::uint32_t b = 0; b < sc.can_buses.size(); ++b) rec.can_buses.push_back(can_bus_row(f, b));
   add_faults(f, rec);
   rec.restarts = std::move(j.restarts);
   for (const auto& r : rec.restarts) {

@@ -96,7 +96,7 @@ Result<std::vector<BenchLine>> open_lines(const Scenario& sc) {
   std::vector<BenchLine> lines;
   for (const auto& d : run_devices(sc)) {
     if (d.spec.on_can()) {
-      lines.push_back(BenchLine::on_bus(sc.can ? sc.can->interface : std::string()));
+      lines.push_back(BenchLine::on_bus(sc.can_buses[d.spec.can_bus].interface));
       continue;
     }
     auto l = BenchLine::open_serial(d.spec.port, d.spec.baud);
@@ -155,7 +155,7 @@ void make_timing_audit(Scenario& sc) {
 /// scenario.yaml as it plays, then returns the record of the run.
 reports::RunRecord play_run(const Scenario& sc, const VehicleTruths& truths,
                             std::vector<BenchLine>& lines,
-                            std::optional<transport::CanSocket> can_socket, const fs::path& dir,
+                            std::vector<transport::CanSocket> can_sockets, const fs::path& dir,
                             const RunOptions& o, EventLoop& loop) {
   const bool quiet = o.quiet;
   RunIdentity id;
@@ -169,7 +169,7 @@ reports::RunRecord play_run(const Scenario& sc, const VehicleTruths& truths,
   log.tally.reset(devices.size(), sc.duration);
   ReactiveDevices reactive(sc, devices, lines, log, loop, g_news);
   DutWatch watch(sc, devices, truths, g_interrupted, loop, g_news);
-  CanSender can(sc, streams.can, std::move(can_socket), devices.size(), log);
+  CanSender can(sc, streams.can, std::move(can_sockets), devices.size(), log);
   SystemClock clock;
   RunWires wires({&sc, &devices, &streams, &lines, &log, &reactive, &watch, &can,
                   &g_interrupted, quiet});
@@ -178,7 +178,7 @@ reports::RunRecord play_run(const Scenario& sc, const VehicleTruths& truths,
   log.lateness.place(dir.string());
   log.tx = open_file(dir / "capture-tx.log");
   log.rx = std::make_unique<CaptureFile>(dir / "capture-rx.log", o.log_limit);
-  if (sc.can) log.can = open_file(dir / "capture-can.log");
+  if (!sc.can_buses.empty()) log.can = open_file(dir / "capture-can.log");
   fs::copy_file(sc.file, dir / "scenario.yaml");
 
   Duration startup{0};
@@ -305,15 +305,15 @@ int run_scenario(const RunOptions& o) {
     std::fprintf(stderr, "navbench: %s\n", lines.error().detail.c_str());
     return kExitBench;
   }
-  std::optional<transport::CanSocket> can;
-  if (sc->can) {
-    auto sock = transport::CanSocket::open(sc->can->interface);
+  std::vector<transport::CanSocket> can;
+  for (const auto& bus : sc->can_buses) {
+    auto sock = transport::CanSocket::open(bus.interface);
     if (!sock) {
       std::fprintf(stderr, "navbench: %s: vehicle.can.interface: %s\n", sc->file.c_str(),
                    sock.error().detail.c_str());
       return kExitBench;
     }
-    can.emplace(std::move(*sock));
+    can.push_back(std::move(*sock));
   }
   const fs::path final_dir =
       o.out_dir.empty() ? fs::path("runs") / (sc->name + "-" + utc_now("%Y%m%dT%H%M%SZ"))

@@ -252,6 +252,30 @@ void read_fault(const Field& item, Duration run, DeviceSpec& d) {
   d.faults.push_back(f);
 }
 
+namespace {
+
+/// A CAN device's `bus`: the interface of one of the vehicle's buses; may be left out when
+/// the vehicle has one bus.
+std::uint32_t read_device_bus(const MapReader& m, const Field& type_field, const Scenario& s) {
+  std::string names;
+  for (const auto& b : s.can_buses) names += (names.empty() ? "" : ", ") + b.interface;
+  const auto v = m.optional("bus");
+  if (!v) {
+    if (s.can_buses.size() > 1) {
+      type_field.fail("the vehicle has several CAN buses (" + names +
+                      "): say which this device is on with 'bus: INTERFACE'");
+    }
+    return 0;
+  }
+  const std::string iface = v->text("the interface of one of the vehicle's CAN buses");
+  for (std::uint32_t b = 0; b < s.can_buses.size(); ++b) {
+    if (s.can_buses[b].interface == iface) return b;
+  }
+  v->fail("no CAN bus " + quoted(iface) + " on the vehicle (buses: " + names + ")");
+}
+
+}  // namespace
+
 DeviceSpec read_device(const Field& item, const Scenario& s) {
   if (!item.node().IsMap()) item.fail("expected a device map, got " + what_is(item.node()));
   std::vector<std::pair<std::string, const DeviceKind*>> types;
@@ -274,6 +298,7 @@ DeviceSpec read_device(const Field& item, const Scenario& s) {
   // Every kind's own keys, and `mount`, which every device has (read here).
   std::vector<std::string> keys = kind.keys;
   keys.emplace_back("mount");
+  if (kind.link == DeviceKind::Link::kCan) keys.emplace_back("bus");
   const MapReader m(item, keys);
 
   d.name = m.optional("name") ? m.required("name").identifier() : type_field->node().Scalar();
@@ -282,11 +307,12 @@ DeviceSpec read_device(const Field& item, const Scenario& s) {
   d.baud = kind.baud;
   double rate_hz = kind.rate_hz;
   Duration latency = kind.latency;
-  if (d.on_can() && !s.can) {
+  if (d.on_can() && s.can_buses.empty()) {
     type_field->fail(std::string("a ") + kind.name +
                      " device is on the vehicle's CAN bus: add 'can: {interface: vcan0}' "
                      "(and a bitrate) to vehicle");
   }
+  if (d.on_can()) d.can_bus = read_device_bus(m, *type_field, s);
   if (auto v = m.optional("baud")) d.baud = v->baud();
   if (auto v = m.optional("rate")) rate_hz = v->rate();
   if (auto v = m.optional("latency")) latency = v->duration(Bound::kNonNegative);

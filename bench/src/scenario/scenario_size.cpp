@@ -50,11 +50,12 @@ void check_size(const Field& duration, const Scenario& s) {
   rates += truth;
   double planned = hz * seconds;
   // A babbling CAN device's flood: one 8-byte frame per frame time for its window.
-  if (s.can) {
+  if (!s.can_buses.empty()) {
     for (const auto& d : s.devices) {
       for (const auto& f : d.can_faults) {
         if (f.kind != CanFaultSpec::Kind::kBabbling) continue;
-        const double frames = to_seconds(f.to - f.from) * s.can->bitrate_bps / 135.0;
+        const double frames =
+            to_seconds(f.to - f.from) * s.can_buses[d.can_bus].bitrate_bps / 135.0;
         planned += frames;
         char buf[96];
         std::snprintf(buf, sizeof buf, ", %s babbling %.3g frames", d.name.c_str(), frames);

@@ -143,7 +143,7 @@ double read_can_bitrate(const Field& f) {
   return bps;
 }
 
-/// vehicle.can: {interface, bitrate, faults}.
+/// One bus of vehicle.can: {interface, bitrate, faults}.
 CanBusSpec read_can(const Field& f, Duration run) {
   const MapReader m(f, {"interface", "bitrate", "faults"});
   CanBusSpec c;
@@ -194,7 +194,21 @@ void read_vehicle(const Field& f, Scenario& s) {
     }
     cur.seabed_m = s.seabed_depth_m;
   }
-  if (auto v = m.optional("can")) s.can = read_can(*v, s.duration);
+  if (auto v = m.optional("can")) {
+    if (v->node().IsSequence()) {
+      for (const Field& bus : v->list("a list of CAN buses", 1)) {
+        s.can_buses.push_back(read_can(bus, s.duration));
+        for (std::size_t b = 0; b + 1 < s.can_buses.size(); ++b) {
+          if (s.can_buses[b].interface == s.can_buses.back().interface) {
+            bus.fail("CAN interface " + quoted(s.can_buses.back().interface) +
+                     " is already a bus of this vehicle");
+          }
+        }
+      }
+    } else {
+      s.can_buses.push_back(read_can(*v, s.duration));
+    }
+  }
   for (const Field& item : m.required("path").list("a list of path segments", 1)) {
     t.segments.push_back(read_segment(item, cur));
     s.segment_locations.push_back(location(s.file, item.mark()));

@@ -75,10 +75,10 @@ TEST(ScenarioCanFaults, DeviceAndControllerFaultsAreRead) {
   EXPECT_EQ(d.can_faults[2].kind, Kind::kBabbling);
   EXPECT_EQ(d.can_faults[2].id, 16u);
   EXPECT_TRUE(d.faults.empty());  // no serial stream faults
-  ASSERT_TRUE(ok->can);
-  ASSERT_EQ(ok->can->faults.size(), 1u);
-  EXPECT_EQ(ok->can->faults[0].kind, Kind::kBusOff);
-  EXPECT_EQ(ok->can->faults[0].to, 13s);
+  ASSERT_EQ(ok->can_buses.size(), 1u);
+  ASSERT_EQ(ok->can_buses[0].faults.size(), 1u);
+  EXPECT_EQ(ok->can_buses[0].faults[0].kind, Kind::kBusOff);
+  EXPECT_EQ(ok->can_buses[0].faults[0].to, 13s);
 }
 
 TEST(ScenarioCanFaults, MalformedCanFaultsAreRefusedWhereTheyAre) {

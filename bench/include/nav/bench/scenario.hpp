@@ -73,6 +73,8 @@ struct DeviceSpec {
   std::vector<emulators::FaultSpec> faults;
   /// A CAN device's frame faults, in file order.
   std::vector<CanFaultSpec> can_faults;
+  /// A CAN device's bus (`bus`: its interface): an index into Scenario::can_buses.
+  std::uint32_t can_bus = 0;
 };
 
 /// A `restart` fault of the DUT (dut.faults): the bench kills its process group with SIGKILL
@@ -128,7 +130,7 @@ struct PeerSpec {
   std::vector<std::string> segment_locations;  ///< as Scenario::segment_locations
 };
 
-/// The primary vehicle's CAN bus (vehicle.can).
+/// One of the primary vehicle's CAN buses (vehicle.can: one map, or a list of them).
 struct CanBusSpec {
   std::string interface;        ///< SocketCAN interface, e.g. vcan0 or can0
   double bitrate_bps = 250000;  ///< nominal bit rate [bit/s]
@@ -155,7 +157,8 @@ struct Scenario {
   geodesy::Geodetic datum;
   std::string vehicle_name = "vehicle";
   std::optional<double> seabed_depth_m;  ///< vehicle.seabed: flat seabed depth [m] (DVLs)
-  std::optional<CanBusSpec> can;         ///< vehicle.can: the bus of its CAN devices
+  /// vehicle.can: the buses of its CAN devices, in file order (empty: none).
+  std::vector<CanBusSpec> can_buses;
   emulators::TrajectorySpec trajectory;
   std::vector<DeviceSpec> devices;
   DutSpec dut;
