@@ -142,7 +142,11 @@ TEST(CanFaultsRun, CorruptionLossBabblingAndBusOffAreOnTheWireAndNavdSurvivesThe
   EXPECT_EQ(errors.at("restarted"), 1);
   EXPECT_EQ(errors.at("protocol"), protocol);
   EXPECT_EQ(group(dut.substr(at), "rejects").at("unknown_id"), flood);
-  EXPECT_EQ(group(dut.substr(at), "n2k").at("127250"), heading);
+  // All of them but, at most, the last: sent at the very end of the run, it may still be in
+  // navd's socket when navd is stopped (seen on a slow user-mode Linux).
+  const long read = group(dut.substr(at), "n2k").at("127250");
+  EXPECT_LE(read, heading);
+  EXPECT_GE(read, heading - 1);
 }
 
 }  // namespace

@@ -405,6 +405,7 @@ int replay_capture(const ReplayOptions& o) {
     writes.push_back(Chunk{lines[k].t, k, 0, static_cast<std::uint32_t>(lines[k].bytes.size())});
   }
   const Timestamp play_start = monotonic_now();
+  const CpuWakeLatencyHold awake;  // as a run's player: no CPU in deep idle while it plays
   detail::play_wires(messages, writes, pacer, wires, clock, g_interrupted);
   const auto& lateness = wires.lateness();
   const std::size_t played = wires.played();

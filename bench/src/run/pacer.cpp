@@ -6,8 +6,9 @@
 
 namespace nav::bench::detail {
 
-RealtimePacer::RealtimePacer(Clock& clock, const std::atomic<bool>& stop, Duration max_sleep)
-    : clock_(clock), stop_(stop), max_sleep_(max_sleep) {}
+RealtimePacer::RealtimePacer(Clock& clock, const std::atomic<bool>& stop, Duration max_sleep,
+                             Duration spin)
+    : clock_(clock), stop_(stop), max_sleep_(max_sleep), spin_(spin) {}
 
 void RealtimePacer::set_origin(Timestamp t0, Duration origin, double speed) {
   t0_ = t0;
@@ -42,9 +43,15 @@ void RealtimePacer::wait(Duration t, IdleWork& idle) {
       idle.send_due(now - t0_);
     }
     if (now >= until || stop_) return;
+    if (spin_.count() > 0 && until - now <= spin_) {
+      // The last stretch: spin on the clock, no wake-up to wait for.
+      while (clock_.now() < until && !stop_) {
+      }
+      continue;
+    }
     // Never longer than max_sleep at a time: a short sleep wakes closer to its deadline
     // (docs/design-notes.md, "Which timer paces the writes").
-    Timestamp wake = std::min(until, now + max_sleep_);
+    Timestamp wake = std::min(until - spin_, now + max_sleep_);
     if (active) {
       if (const auto due = idle.next_due()) wake = std::min(wake, deadline(*due));
     }

@@ -67,8 +67,10 @@ class Pacer {
 
 class RealtimePacer final : public Pacer {
  public:
-  /// stop ends every wait; max_sleep: the longest single sleep.
-  RealtimePacer(Clock& clock, const std::atomic<bool>& stop, Duration max_sleep);
+  /// stop ends every wait; max_sleep: the longest single sleep; spin: the last part of each
+  /// wait is spent reading the clock in a loop instead of sleeping (bench.spin).
+  RealtimePacer(Clock& clock, const std::atomic<bool>& stop, Duration max_sleep,
+                Duration spin = Duration{0});
   /// Scenario time `origin` is at t0 on the clock; scenario time runs `speed` times faster.
   void set_origin(Timestamp t0, Duration origin = Duration{0}, double speed = 1.0);
   bool lockstep() const override { return false; }
@@ -85,6 +87,7 @@ class RealtimePacer final : public Pacer {
   Clock& clock_;
   const std::atomic<bool>& stop_;
   Duration max_sleep_;
+  Duration spin_;
   Timestamp t0_{};
   Duration origin_{0};
   double speed_ = 1.0;

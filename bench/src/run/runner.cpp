@@ -173,7 +173,7 @@ reports::RunRecord play_run(const Scenario& sc, const VehicleTruths& truths,
   SystemClock clock;
   RunWires wires({&sc, &devices, &streams, &lines, &log, &reactive, &watch, &can,
                   &g_interrupted, quiet});
-  RealtimePacer realtime(clock, g_interrupted, kMaxSleep);
+  RealtimePacer realtime(clock, g_interrupted, kMaxSleep, sc.spin);
   LockstepPacer lockstep;
   log.lateness.place(dir.string());
   log.tx = open_file(dir / "capture-tx.log");
@@ -190,6 +190,10 @@ reports::RunRecord play_run(const Scenario& sc, const VehicleTruths& truths,
   realtime.set_origin(t0);
   watch.start(lines, dir, t0, log, o.log_limit);
   loop.try_realtime_priorities();
+  // Realtime: no CPU in a deep idle state while the run plays, so that a sleeping player wakes
+  // at once (docs/design-notes.md, "Timing you can prove"); nothing when not permitted.
+  std::optional<CpuWakeLatencyHold> awake;
+  if (sc.mode == TimeMode::kRealtime) awake.emplace();
   // The DUTs' startup, on the event loop: until t0 (a timer), the watchdog's verdict (a
   // crash), a signal; the step runs again whenever a DUT writes to a device line.
   loop.wait_until(t0, 100ms, [&] {

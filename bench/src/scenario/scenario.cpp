@@ -66,9 +66,16 @@ geodesy::Geodetic read_datum(const Field& f) {
 }
 
 void read_bench(const Field& f, Scenario& s) {
-  const MapReader m(f, {"lateness_budget_p99"});
+  const MapReader m(f, {"lateness_budget_p99", "spin"});
   if (auto b = m.optional("lateness_budget_p99")) {
     s.lateness_budget_p99 = b->duration(Bound::kPositive);
+  }
+  if (auto v = m.optional("spin")) {
+    s.spin = v->duration(Bound::kNonNegative);
+    if (s.spin > std::chrono::milliseconds(1)) {
+      v->fail("expected a spin of at most 1 ms (it costs CPU at every write), got " +
+              quoted(v->node().Scalar()));
+    }
   }
 }
 

@@ -21,7 +21,11 @@ using namespace std::chrono_literals;
 /// A clock that jumps to each deadline it is asked to sleep until.
 class FakeClock final : public Clock {
  public:
-  Timestamp now() const override { return now_; }
+  /// Each reading advances the clock by `tick` (0: it moves only when slept), as a spin sees.
+  Timestamp now() const override {
+    now_ += tick;
+    return now_;
+  }
   void sleep_until(Timestamp t, const std::atomic<bool>&) override {
     sleeps.push_back(t);
     if (t > now_) now_ = t;
@@ -38,11 +42,12 @@ class FakeClock final : public Clock {
     sleep_until(t, stop);
   }
   void advance(Duration d) { now_ += d; }
+  Duration tick{0};
   std::vector<Timestamp> sleeps;
   std::vector<Timestamp> news_at;
 
  private:
-  Timestamp now_{std::chrono::seconds(100)};
+  mutable Timestamp now_{std::chrono::seconds(100)};
 };
 
 /// Records every call, in order, as text.
@@ -127,6 +132,18 @@ TEST_F(Player, RealtimeSleepsToEachDeadlineInSlicesOfAtMostMaxSleep) {
   EXPECT_EQ(clock.sleeps, (std::vector<Timestamp>{kT0 + 10ms, kT0 + 20ms, kT0 + 25ms,
                                                   kT0 + 35ms, kT0 + 40ms}));
   EXPECT_EQ(r.log, (std::vector<std::string>{"poll 25ms", "poll 40ms"}));  // after each wait
+}
+
+TEST_F(Player, RealtimeWithASpinSleepsToTheSpinBeforeTheDeadlineThenReadsTheClockToIt) {
+  RealtimePacer spinning{clock, stop, 10ms, 300us};
+  spinning.set_origin(kT0);
+  clock.tick = 10us;  // a clock that moves as it is read
+  spinning.advance(25ms, r);
+  // Slices as before, the last ending 300 us early; the rest is spun, never slept.
+  ASSERT_EQ(clock.sleeps.size(), 3u);
+  EXPECT_EQ(clock.sleeps.back(), kT0 + 24700us);
+  EXPECT_GE(clock.now(), kT0 + 25ms);
+  EXPECT_LT(clock.now(), kT0 + 25ms + 100us);
 }
 
 TEST_F(Player, RealtimeServesIdleWorkAtTheLoopsNewsAndWakesAtWhatFallsDue) {

@@ -170,6 +170,8 @@ struct Scenario {
   emulators::AcousticModemConfig acoustic;
   double truth_rate_hz = 50.0;           ///< truth.tum sample rate [Hz]
   Duration lateness_budget_p99{std::chrono::milliseconds(5)};  ///< bench-late above this
+  /// bench.spin: realtime writes sleep to this much before their deadline, then spin to it.
+  Duration spin{0};
   /// "file:line:col" of each path segment, parallel to trajectory.segments, so that an error
   /// of TruthTrajectory::build naming "segment i" (0-based) can point into the file.
   std::vector<std::string> segment_locations;
