@@ -44,6 +44,8 @@ void add_latency(const RunFolder& f, RunPlots& out) {
   const auto& missed = l["missed"];
   if (!f.has_latency) {
     s.empty_note = "latency.csv not recorded.";
+  } else if (!member(f.summary, "witness").is_null()) {
+    s.empty_note = "A timing audit: the witness stood in the DUT's place and answers nothing.";
   } else if (t.empty() || ms.size() != t.size()) {
     s.empty_note = "No trigger was sent to the DUT.";
   } else {

@@ -46,6 +46,8 @@ const realtime = [
     verdict: 'PASS' },
   { name: 'crashed', args: ['run', src('tests/integration/scenarios/dut_exits.yaml'), '-o', 'crashed'],
     verdict: 'DUT crashed' },
+  { name: 'witness', args: ['run', src('tests/integration/scenarios/witness.yaml'), '--witness',
+                            '-o', 'witness', '-q'], verdict: 'PASS' },
 ];
 const lockstep = [
   { name: 'p0', args: ['run', src('scenarios/p0-pool-circle-ekf.yaml'), '--mode', 'lockstep', '-o', 'p0'] },
@@ -159,6 +161,24 @@ describe('run reports', { skip: !haveChromium && 'chromium is not installed' }, 
       });
       assert.ok(over > 0, 'no sample marked over the limit');
       assert.match(await page.locator('#checks').innerText(), /horizontal error within 5 cm after alignment/);
+    } finally {
+      await context.close();
+    }
+  });
+
+  test('witness: the timing audit table and the arrival histogram are drawn', async () => {
+    const { page, context } = await open(path.join(work, 'witness', 'report.html'));
+    try {
+      const timing = await page.locator('#timing').innerText();
+      assert.match(timing, /Timing audit/);
+      assert.match(timing, /witness arrival lateness/);
+      assert.doesNotMatch(timing, /DUT latency/);
+      for (const line of ['ahrs', 'gps', 'dvl']) assert.match(timing, new RegExp(`\\n${line}\\t`));
+      const bars = await page.evaluate(() => {
+        const c = window.navbenchCharts.find((x) => x.spec.id === 'plot-arrival-hist');
+        return c ? c.plot.data[1].filter((v) => v > 0).length : -1;
+      });
+      assert.ok(bars > 0, `arrival histogram: ${bars} bars`);
     } finally {
       await context.close();
     }

@@ -52,6 +52,9 @@ WitnessLine witness_line(const std::string& device, int baud, const std::vector<
     while (read_start[j + 1] <= start) ++j;
     std::size_t l = j;  // the read holding its last byte
     while (read_start[l + 1] < end) ++l;
+    // A write can reach the reader in pieces microseconds apart (a pty's delivery): pieces
+    // closer than half a byte time belong to the write of the first of them.
+    while (l > j && reads[l].t_s - reads[l - 1].t_s < 0.5 * byte_s) --l;
     const double arrived = reads[j].t_s;
     out.arrived_s[k] = arrived;
     ++row.messages_seen;

@@ -8,7 +8,8 @@
 //   each message within the matched bytes: arrived = the stamp of the read holding its first
 //   byte; arrival lateness = arrived - scheduled (write lateness = written - scheduled)
 //   pacing of a message read in several reads: (stamp of the read holding its last byte -
-//   arrived) / (byte time of its bytes before that read's first byte); 1 = bytes at the baud
+//   arrived) / (byte time of its bytes before that read's first byte); 1 = bytes at the baud.
+//   Reads less than half a byte time apart count as one (the pieces of one write)
 #pragma once
 
 #include <cstdint>

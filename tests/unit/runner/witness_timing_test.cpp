@@ -65,6 +65,22 @@ TEST(WitnessTiming, AMessageWrittenWholeHasNoPacingAndTwiceTooSlowBytesHaveTwo) 
   EXPECT_NEAR(*line.row.pacing_median, 2.0, 1e-9);
 }
 
+TEST(WitnessTiming, AWriteReadInPiecesMicrosecondsApartIsPacedAsOneWrite) {
+  // 30 bytes in chunks of 10 at the baud; the last chunk reaches the reader in two pieces
+  // 5 us apart (3 bytes, then 7): the second piece is no later byte of the line.
+  const Bytes m = bytes(30, 0);
+  const std::vector<WitnessSent> sent = {{1.0, 1.0, m}};
+  const auto at = [&](std::size_t off, std::size_t n, double t) {
+    return WitnessRead{t, std::span<const std::uint8_t>(m.data() + off, n)};
+  };
+  const std::vector<WitnessRead> reads = {at(0, 10, 1.0), at(10, 10, 1.0 + 10 * kByte),
+                                          at(20, 3, 1.0 + 20 * kByte),
+                                          at(23, 7, 1.0 + 20 * kByte + 5e-6)};
+  const auto line = witness_line("imu", kBaud, sent, reads);
+  ASSERT_TRUE(line.row.pacing_median);
+  EXPECT_NEAR(*line.row.pacing_median, 1.0, 1e-9);
+}
+
 TEST(WitnessTiming, AReadHoldingTheEndOfOneMessageAndTheStartOfTheNextStampsBoth) {
   const Bytes m0 = bytes(6, 0), m1 = bytes(6, 10);
   Bytes both(m0);
