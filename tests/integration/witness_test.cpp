@@ -69,7 +69,14 @@ TEST(NavbenchWitness, StampsEachArrivalWithin100UsOfAKnownWriteOnTheMedian) {
   // Stamped before the read that returned the bytes, after they were written.
   for (const auto& a : line.arrived_s) ASSERT_TRUE(a.has_value());
   for (std::size_t k = 0; k < sent.size(); ++k) EXPECT_GE(*line.arrived_s[k], sent[k].written_s);
-  EXPECT_LT(line.row.arrival_lateness.p50_s, 100e-6)
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_UNDEFINED__)
+  // scripts/test --sanitize: every instrumented program is slower; the bound is about the
+  // witness's design, which the plain build tests.
+  constexpr double kMedianBound = 1e-3;
+#else
+  constexpr double kMedianBound = 100e-6;
+#endif
+  EXPECT_LT(line.row.arrival_lateness.p50_s, kMedianBound)
       << "p99 " << line.row.arrival_lateness.p99_s * 1e3 << " ms";
   std::printf("witness arrival p50 %.1f us p99 %.1f us\n", line.row.arrival_lateness.p50_s * 1e6, line.row.arrival_lateness.p99_s * 1e6);
 }
