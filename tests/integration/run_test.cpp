@@ -442,7 +442,7 @@ TEST(NavbenchCli, HelpAndUsageErrors) {
   const auto unknown = run_navbench({"frobnicate"}, dir);
   EXPECT_EQ(unknown.exit_code, 2);
   EXPECT_EQ(unknown.err, "navbench: unknown subcommand 'frobnicate' (one of: run, campaign, "
-                         "decode, replay, record, report; see navbench --help)\n");
+                         "decode, replay, record, witness, report; see navbench --help)\n");
 }
 
 }  // namespace
