@@ -270,33 +270,14 @@ int record_ports(const RecordOptions& o) {
     return kExitUsage;
   }
   if (!o.can_interfaces.empty()) return record_can(o);
-  std::vector<PortMapping> maps;
-  for (const auto& text : o.ports) {
-    auto m = parse_port_mapping(text);
-    if (!m) {
-      std::fprintf(stderr, "navbench: record: %s\n", m.error().detail.c_str());
-      return kExitUsage;
-    }
-    if (!m->baud) {
-      std::fprintf(stderr, "navbench: record: '%s': expected NAME=PATH@BAUD\n", text.c_str());
-      return kExitUsage;
-    }
-    if (m->name.find_first_of(" \t()") != std::string::npos) {
-      std::fprintf(stderr, "navbench: record: '%s': a port name cannot hold spaces or "
-                   "parentheses\n", text.c_str());
-      return kExitUsage;
-    }
-    for (const auto& other : maps) {
-      if (other.name == m->name) {
-        std::fprintf(stderr, "navbench: record: port '%s' given twice\n", m->name.c_str());
-        return kExitUsage;
-      }
-    }
-    maps.push_back(*m);
+  const auto maps = parse_capture_ports(o.ports);
+  if (!maps) {
+    std::fprintf(stderr, "navbench: record: %s\n", maps.error().detail.c_str());
+    return kExitUsage;
   }
 
   std::vector<Port> ports;
-  for (const auto& m : maps) {
+  for (const auto& m : *maps) {
     auto s = transport::SerialPort::open(m.path, *m.baud);
     if (!s) {
       std::fprintf(stderr, "navbench: record: port '%s': %s\n", m.name.c_str(),

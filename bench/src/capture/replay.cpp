@@ -156,6 +156,26 @@ Result<PortMapping> parse_port_mapping(const std::string& text) {
   return m;
 }
 
+Result<std::vector<PortMapping>> parse_capture_ports(const std::vector<std::string>& texts) {
+  std::vector<PortMapping> maps;
+  for (const auto& text : texts) {
+    auto m = parse_port_mapping(text);
+    if (!m) return tl::unexpected(m.error());
+    if (!m->baud) return fail(ErrorCode::kInvalidArgument, "'" + text + "': expected NAME=PATH@BAUD");
+    if (m->name.find_first_of(" \t()") != std::string::npos) {
+      return fail(ErrorCode::kInvalidArgument,
+                  "'" + text + "': a port name cannot hold spaces or parentheses");
+    }
+    for (const auto& other : maps) {
+      if (other.name == m->name) {
+        return fail(ErrorCode::kInvalidArgument, "port '" + m->name + "' given twice");
+      }
+    }
+    maps.push_back(*m);
+  }
+  return maps;
+}
+
 int replay_capture(const ReplayOptions& o) {
   // --- the capture -------------------------------------------------------------------------
   std::ifstream in(o.capture_path, std::ios::binary);

@@ -63,30 +63,13 @@ int run_witness(const WitnessOptions& o) {
     std::fprintf(stderr, "navbench: witness: --duration must be >= 0\n");
     return kExitUsage;
   }
-  std::vector<PortMapping> maps;
-  for (const auto& text : o.ports) {
-    auto m = parse_port_mapping(text);
-    if (!m || !m->baud) {
-      std::fprintf(stderr, "navbench: witness: %s\n",
-                   m ? ("'" + text + "': expected NAME=PATH@BAUD").c_str()
-                     : m.error().detail.c_str());
-      return kExitUsage;
-    }
-    if (m->name.find_first_of(" \t()") != std::string::npos) {
-      std::fprintf(stderr, "navbench: witness: '%s': a port name cannot hold spaces or "
-                   "parentheses\n", text.c_str());
-      return kExitUsage;
-    }
-    for (const auto& other : maps) {
-      if (other.name == m->name) {
-        std::fprintf(stderr, "navbench: witness: port '%s' given twice\n", m->name.c_str());
-        return kExitUsage;
-      }
-    }
-    maps.push_back(*m);
+  const auto maps = parse_capture_ports(o.ports);
+  if (!maps) {
+    std::fprintf(stderr, "navbench: witness: %s\n", maps.error().detail.c_str());
+    return kExitUsage;
   }
   std::vector<Port> ports;
-  for (const auto& m : maps) {
+  for (const auto& m : *maps) {
     auto s = transport::SerialPort::open(m.path, *m.baud);
     if (!s) {
       std::fprintf(stderr, "navbench: witness: port '%s': %s\n", m.name.c_str(),

@@ -31,6 +31,10 @@ struct PortMapping {
 /// Parses NAME=PATH[@BAUD]; the baud must be one SerialPort accepts (kInvalidArgument).
 Result<PortMapping> parse_port_mapping(const std::string& text);
 
+/// The ports of `record` and `witness`: each NAME=PATH@BAUD (the baud required), a name that
+/// can stand in a capture line (no spaces or parentheses), no name twice (kInvalidArgument).
+Result<std::vector<PortMapping>> parse_capture_ports(const std::vector<std::string>& texts);
+
 struct ReplayOptions {
   std::string capture_path;
   std::vector<std::string> ports;      ///< NAME=PATH[@BAUD]; unmapped ports get a pty
