@@ -3,14 +3,17 @@
 // write of a schedule in order, each after its pacer advanced to it (pacer.hpp), what happens
 // around each write left to the owner of the lines (a PlayHost). Private to nav_bench.
 //
-//   for each write (a chunk of a message, or a whole message):
+//   for each group of writes due at one instant (realtime; in lockstep each write alone):
 //     host.go_on(t)          stop on a signal or a DUT that died; progress
 //     pacer.advance(t, host) CAN frames due (a CAN trigger's barrier), idle work (reactive
 //                            devices), the deadline
-//     host.begin(k)          at a message's first byte: write it, skip it, or stop (also
+//     per write, back to back:
+//       host.begin(k)        at a message's first byte: write it, skip it, or stop (also
 //                            when a CAN trigger's barrier failed in advance)
-//     host.write(...)        the bytes; host.wrote() counts them
-//     host.done(k, ...)      the message is whole on the wire: captures, triggers, barrier
+//       host.write(...)      the bytes, stamped before and after
+//     per write, after the group's last:
+//       host.wrote(...)      counts them
+//       host.done(k, ...)    the message is whole on the wire: captures, triggers, barrier
 //   pacer.finish(host)       the CAN frames due after the last write
 #pragma once
 

@@ -340,5 +340,34 @@ TEST_F(Player, RealtimeCanTriggerFramesStillGoAtTheirOwnDeadlines) {
   EXPECT_EQ(clock.now(), kT0 + 5ms);
 }
 
+TEST_F(Player, PlayRealtimeWritesDueAtOneInstantGoBackToBackTheirEndsAfterTheLast) {
+  // Two lines whose messages start at the same instant (a burst): both writes go out before
+  // the bookkeeping of either; lockstep still ends each message before the next.
+  WireSchedule b;
+  b.messages = {{0, 0, 0ms, 1ms}, {1, 0, 0ms, 1ms}, {0, 1, 2ms, 3ms}};
+  b.chunks = {{0ms, 0, 0, 1}, {0ms, 1, 0, 1}, {2ms, 2, 0, 1}};
+  r.sizes = {1, 1, 1};
+  ASSERT_TRUE(play_wires(b.messages, b.chunks, realtime, r, clock, stop));
+  std::vector<std::string> writes;
+  for (const auto& l : r.log) {
+    if (l.rfind("poll", 0) != 0) writes.push_back(l);
+  }
+  EXPECT_EQ(writes, (std::vector<std::string>{"write 0 [0+1] at 0ms", "write 1 [0+1] at 0ms",
+                                              "done 0 first 0ms", "done 1 first 0ms",
+                                              "write 2 [0+1] at 2ms", "done 2 first 2ms"}));
+  Recorder l{clock};
+  l.sizes = r.sizes;
+  ASSERT_TRUE(play_wires(b.messages, writes_for(b, lockstep, l.sizes), lockstep, l, clock, stop));
+  EXPECT_EQ(writes_and_frames(l.log), (std::vector<std::string>{"write 0 [0+1] whole",
+                                                                "write 1 [0+1] whole",
+                                                                "write 2 [0+1] whole"}));
+  const auto starting = [&](const char* prefix) {
+    return std::find_if(l.log.begin(), l.log.end(),
+                        [&](const std::string& x) { return x.rfind(prefix, 0) == 0; });
+  };
+  ASSERT_NE(starting("done 0"), l.log.end());
+  EXPECT_LT(starting("done 0"), starting("write 1"));
+}
+
 }  // namespace
 }  // namespace nav::bench::detail
