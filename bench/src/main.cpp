@@ -11,7 +11,9 @@
 
 #include <CLI/CLI.hpp>
 
-#include "nav/bench/campaign.hpp"
+#include "campaign/campaign_cli.hpp"
+#include "cli_validators.hpp"
+
 #include "nav/bench/decode.hpp"
 #include "nav/bench/record.hpp"
 #include "nav/bench/replay.hpp"
@@ -63,27 +65,6 @@ int write_report_file(const std::string& dir, const std::string& out) {
   return nav::bench::kExitPass;
 }
 
-/// Decimal digits only, at most 2^64 - 1, leading zeros dropped (a transform): CLI11 would take
-/// "-1" for an unsigned option and wrap it around, saturate a number too large, and read
-/// "010" as octal.
-const CLI::Validator kUnsignedInteger(
-    [](std::string& text) -> std::string {
-      const bool digits = !text.empty() && std::all_of(text.begin(), text.end(), [](char c) {
-        return c >= '0' && c <= '9';
-      });
-      if (!digits) return "expected an unsigned decimal integer, got '" + text + "'";
-      const auto first = std::min(text.find_first_not_of('0'), text.size() - 1);
-      const std::string_view significant = std::string_view(text).substr(first);
-      constexpr std::string_view kMax = "18446744073709551615";
-      if (significant.size() > kMax.size() ||
-          (significant.size() == kMax.size() && significant > kMax)) {
-        return "expected at most 18446744073709551615, got '" + text + "'";
-      }
-      text = std::string(significant);
-      return {};
-    },
-    "", "unsigned 64-bit integer");
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -108,10 +89,8 @@ int main(int argc, char** argv) {
                   "Override the scenario's time mode: realtime (wall clock, deadlines judged) "
                   "or lockstep (virtual time, one barrier per trigger, bit-reproducible)")
       ->check(CLI::IsMember({"realtime", "lockstep"}));
-  // An empty --out is a mistake (an unset shell variable), not a request for the default.
-  const CLI::Validator not_empty(
-      [](std::string& v) { return v.empty() ? std::string("must not be empty") : std::string(); },
-      "FOLDER");
+  using cli::kUnsignedInteger;
+  const CLI::Validator& not_empty = cli::kNotEmpty;
   cmd->add_option("-o,--out", run.out_dir,
                   "Run folder to create (default runs/<scenario>-<UTC time>); must not exist")
       ->check(not_empty);
@@ -133,52 +112,7 @@ int main(int argc, char** argv) {
                       ", 0: no limit); what is past it is counted, not kept")
       ->check(CLI::Range(std::uint64_t{0}, std::uint64_t{1} << 30));
 
-  CampaignOptions campaign;
-  std::string campaign_mode = "lockstep";
-  auto* cam = app.add_subcommand(
-      "campaign",
-      "Run every scenario for a range of seeds (child `navbench run`s, --jobs at a time) and "
-      "compare them: one table row per scenario, endpoint error mean, std, min, max");
-  cam->add_option("scenarios", campaign.scenarios,
-                  "Scenario YAML files; all are validated before anything runs, and their "
-                  "names (run folders, table rows) must differ")
-      ->required();
-  cam->add_option("--seeds", campaign.seeds, "Runs per scenario, with seeds S .. S+N-1 (N >= 1)")
-      ->required()
-      ->transform(kUnsignedInteger);
-  cam->add_option("--first-seed", campaign.first_seed, "First seed S (default 1)")
-      ->transform(kUnsignedInteger);
-  cam->add_option("--mode", campaign_mode,
-                  "Time mode of every run: lockstep (default: virtual time, reproducible) or "
-                  "realtime")
-      ->check(CLI::IsMember({"realtime", "lockstep"}));
-  cam->add_option("-j,--jobs", campaign.jobs, "Runs at a time (default 1)")
-      ->check(CLI::Range(1u, 1024u));
-  cam->add_option("-o,--out", campaign.out_dir, "Campaign folder to create; must not exist")
-      ->required()
-      ->check(not_empty);
-  cam->add_flag("-q,--quiet", campaign.quiet, "No progress lines");
-  cam->footer(
-      "Each run is `navbench run SCENARIO --seed s --mode M -o DIR/runs/<name>-s<seed> -q`\n"
-      "(its stdout and stderr in DIR/runs/<name>-s<seed>.log); one progress line per finished\n"
-      "run goes to stderr: [k/total] <scenario> seed <s>: PASS endpoint 0.412 m (3.1 s).\n\n"
-      "When all are done, DIR gets (each written to a temporary file and renamed):\n"
-      "  campaign.json   the command line, seed range, mode, and every run: scenario, labels,\n"
-      "                  seed, status, exit code, verdict, endpoint error, run folder\n"
-      "  comparison.csv  one row per scenario: its labels (the union of the scenarios' label\n"
-      "                  names, in order of first appearance), scenario, runs, passed,\n"
-      "                  endpoint error mean, std, min, max [m] (empty where undefined)\n"
-      "  comparison.md   the command line and seed range, then the same table with\n"
-      "                  mean ± std; the table is also printed to stdout\n"
-      "The endpoint error of a run is the value its scenario's (first) endpoint_error check\n"
-      "measured; statistics are over the runs that reached the end (exit 0 or 1), std is the\n"
-      "sample standard deviation (n-1), \"—\" for fewer than two runs or no endpoint_error check.\n\n"
-      "Exit codes: 0 every run passed; 1 a check failed in some run (the table is still\n"
-      "written); 2 usage or scenario error (one line naming file:line; nothing is run and DIR\n"
-      "is not created); 3 a bench error in some run; 4 a DUT crashed or hung in some run\n"
-      "(worst wins: 4 > 3 > 1). SIGINT/SIGTERM: no further runs start, running ones are\n"
-      "stopped with SIGTERM (they write their reports), the table is written from the\n"
-      "finished runs and marked incomplete, exit 130.");
+  CampaignCli campaign(app);
 
   std::string protocol, file, port;
   std::vector<std::string> names;
@@ -332,11 +266,7 @@ int main(int argc, char** argv) {
     return run_witness(witness);
   }
   if (*rpt) return write_report_file(report_dir, report_out);
-  if (*cam) {
-    campaign.mode = campaign_mode == "realtime" ? TimeMode::kRealtime : TimeMode::kLockstep;
-    campaign.command.assign(argv, argv + argc);
-    return run_campaign(campaign);
-  }
+  if (const auto rc = campaign.run(argc, argv)) return *rc;
   if (seed_opt->count() > 0) run.seed = seed;
   run.log_limit = log_limit_mib << 20;
   if (!mode.empty()) run.mode = mode == "lockstep" ? TimeMode::kLockstep : TimeMode::kRealtime;

@@ -110,6 +110,13 @@ std::vector<std::string> DutWatch::argv_of(std::uint32_t v, const std::vector<Be
         a.replace(pos, key.size(), path);
       }
     }
+    // The run's seed, so that a DUT with random parts varies with it (a campaign's seeds).
+    constexpr std::string_view kSeed = "{seed}";
+    for (auto pos = a.find(kSeed); pos != std::string::npos; pos = a.find(kSeed, pos)) {
+      const std::string seed = std::to_string(sc_.seed);
+      a.replace(pos, kSeed.size(), seed);
+      pos += seed.size();
+    }
     argv.push_back(a);
   }
   return argv;

@@ -278,6 +278,15 @@ Result<Scenario> preflight_scenario(const std::string& path) {
   return sc;
 }
 
+std::vector<std::string> dut_sha256s(const Scenario& sc) {
+  std::vector<std::string> out;
+  for (std::size_t v = 0; v <= sc.peers.size(); ++v) {
+    const auto& dut = v == 0 ? sc.dut : sc.peers[v - 1].dut;
+    out.push_back(executable_identity(dut.command).second);
+  }
+  return out;
+}
+
 int run_scenario(const RunOptions& o) {
   auto sc = load_scenario(o.scenario_path);
   if (!sc) {

@@ -4,13 +4,15 @@
 //
 //   campaign (this process)                          children (at most --jobs at a time)
 //   -----------------------                          ----------------------------------
-//   preflight every scenario (exit 2, nothing run)
-//   mkdir DIR, DIR/runs
-//   spawn /proc/self/exe run SCEN --seed s ... ---->  navbench run -> DIR/runs/<name>-s<seed>/
+//   the plan: preflight every scenario (exit 2, nothing run)
+//   DIR/plan.json written, or the same plan found there (resume; another plan: exit 2)
+//   indices of the shard without a result with today's inputs (campaign_runs.hpp):
+//   spawn /proc/self/exe run SCEN --seed s ... ---->  navbench run -> DIR/runs/.<name>.pending
 //   waitpid (polled) <------------------------------  exit code
-//   read its summary.json, one progress line
+//   result.json into it, renamed to DIR/runs/<name>; one progress line
 //   SIGINT/SIGTERM: spawn no more, SIGTERM the running children, wait for them
-//   write campaign.json, comparison.csv, comparison.md (temp + rename); table to stdout
+//   campaign.json, comparison.csv, comparison.md, campaign.html from every result in DIR
+//   (campaign_outputs.hpp); table to stdout
 //
 // The pure parts (statistics, table rows and their CSV and markdown forms, reading a run's
 // endpoint error from its summary.json) are declared here for the unit tests.
@@ -26,6 +28,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "nav/bench/campaign_plan.hpp"
 #include "nav/bench/scenario.hpp"
 
 namespace nav::bench {
@@ -38,12 +41,49 @@ struct CampaignOptions {
   unsigned jobs = 1;                   ///< runs at a time
   std::string out_dir;                 ///< campaign folder; must not exist
   bool quiet = false;                  ///< no progress lines
+  Shard shard;                         ///< the indices this campaign runs (default: all)
   std::vector<std::string> command;    ///< navbench's argv, recorded in the outputs
 };
 
 /// Runs a campaign; returns the exit code (0, 1, 2, 3, 4 as for `run`, worst run wins;
 /// 130 when interrupted by SIGINT/SIGTERM).
 int run_campaign(const CampaignOptions& options);
+
+/// `navbench campaign plan`: writes DIR/plan.json (DIR must not exist).
+struct PlanOptions {
+  std::vector<std::string> scenarios;
+  std::uint64_t seeds = 0;
+  std::uint64_t first_seed = 1;
+  TimeMode mode = TimeMode::kLockstep;
+  std::string out_dir;
+  bool quiet = false;
+};
+int write_campaign_plan(const PlanOptions& options);
+
+/// `navbench campaign run-index PLAN [INDEX]`: runs one index of a plan into OUT/runs/ (OUT:
+/// the plan's folder unless given). Exit 0 once the index has its result (whatever the run's
+/// verdict: the merge judges), 2 usage or plan error, 3 no result could be made, 130
+/// interrupted.
+struct RunIndexOptions {
+  std::string plan;
+  std::optional<std::uint64_t> index;  ///< else SLURM_ARRAY_TASK_ID, JOB_COMPLETION_INDEX
+  std::uint64_t index_offset = 0;      ///< added to the index (an array that starts past 0)
+  std::string out_dir;                 ///< default: the plan's folder
+  bool quiet = false;
+};
+int run_campaign_index(const RunIndexOptions& options);
+
+/// `navbench campaign merge DIRS... -o OUT`: the results of one plan from several folders
+/// into one campaign folder. Exit 2 (nothing written) when the folders hold different plans,
+/// an index has no result, two results of one index disagree, or results were made from
+/// different programs; otherwise the campaign's exit code.
+struct MergeOptions {
+  std::vector<std::string> dirs;
+  std::string out_dir;
+  bool quiet = false;
+  std::vector<std::string> command;  ///< navbench's argv, recorded in the outputs
+};
+int merge_campaign(const MergeOptions& options);
 
 /// Exit code of an interrupted campaign (128 + SIGINT, as shells report it).
 inline constexpr int kExitInterrupted = 130;

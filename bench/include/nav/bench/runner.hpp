@@ -15,6 +15,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "nav/bench/capture_file.hpp"
 #include "nav/bench/scenario.hpp"
@@ -49,5 +50,9 @@ int run_scenario(const RunOptions& options);
 /// vehicle's path (TruthTrajectory::build) and every DUT program (found beside navbench or in
 /// PATH). The error detail is the one line `run` prints before exiting with kExitUsage.
 Result<Scenario> preflight_scenario(const std::string& path);
+
+/// The SHA-256 of every vehicle's DUT program (the primary's first) as a run would start it
+/// now; "" for one that cannot be found or read.
+std::vector<std::string> dut_sha256s(const Scenario& sc);
 
 }  // namespace nav::bench

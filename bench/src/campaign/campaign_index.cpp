@@ -1,0 +1,160 @@
+// SPDX-License-Identifier: MIT
+// `navbench campaign plan` and `navbench campaign run-index`: a plan written once, and one
+// index of it run by whoever is given it — a shell loop, a Slurm array task, a Kubernetes
+// Indexed Job completion (campaign.hpp).
+#include <signal.h>
+#include <sys/wait.h>
+
+#include <atomic>
+#include <cerrno>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <thread>
+
+#include "campaign/campaign_runs.hpp"
+#include "nav/bench/campaign.hpp"
+#include "nav/bench/runner.hpp"
+#include "nav/reports/atomic_file.hpp"
+#include "nav/reports/json_text.hpp"
+
+namespace nav::bench {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+using namespace detail;
+
+std::atomic<bool> g_stop{false};
+extern "C" void on_index_signal(int) { g_stop = true; }
+
+constexpr auto kPollPeriod = std::chrono::milliseconds(10);
+
+std::string plan_text(const CampaignPlan& plan) {
+  return reports::dump_json(plan_json(plan), 2) + "\n";
+}
+
+/// out/plan.json is the plan (written when absent): results name their plan by where they
+/// lie, so a folder holds one plan's results only.
+Result<bool> ensure_plan_in(const fs::path& out, const CampaignPlan& plan) {
+  std::error_code ec;
+  fs::create_directories(out / "runs", ec);
+  if (ec) return fail(ErrorCode::kIo, "cannot create " + (out / "runs").string() + ": " + ec.message());
+  const fs::path path = out / "plan.json";
+  if (fs::exists(path, ec)) {
+    auto there = read_plan(path.string());
+    if (!there || plan_json(*there) != plan_json(plan)) {
+      return fail(ErrorCode::kInvalidArgument,
+                  path.string() + " is another campaign's plan; give --out a folder of its own");
+    }
+    return true;
+  }
+  if (auto w = reports::write_file_atomically(path.string(), plan_text(plan)); !w) {
+    return tl::unexpected(w.error());
+  }
+  return true;
+}
+
+}  // namespace
+
+int write_campaign_plan(const PlanOptions& o) {
+  auto plan = make_plan(o.scenarios, o.seeds, o.first_seed, o.mode);
+  if (!plan) {
+    std::fprintf(stderr, "navbench: campaign plan: %s\n", plan.error().detail.c_str());
+    return kExitUsage;
+  }
+  const fs::path out = o.out_dir;
+  std::error_code ec;
+  if (fs::exists(fs::symlink_status(out, ec))) {
+    std::fprintf(stderr, "navbench: campaign plan: %s exists already; choose another --out\n",
+                 out.c_str());
+    return kExitUsage;
+  }
+  if (auto made = ensure_plan_in(out, *plan); !made) {
+    std::fprintf(stderr, "navbench: campaign plan: %s\n", made.error().detail.c_str());
+    return made.error().code == ErrorCode::kIo ? kExitBench : kExitUsage;
+  }
+  if (!o.quiet) {
+    std::fprintf(stderr,
+                 "navbench: campaign plan: %s: %zu runs (indices 0 to %zu: %zu scenario%s x %llu "
+                 "seeds)\n",
+                 (out / "plan.json").c_str(), plan->size(), plan->size() - 1,
+                 plan->scenarios.size(), plan->scenarios.size() == 1 ? "" : "s",
+                 static_cast<unsigned long long>(plan->seeds));
+  }
+  return kExitPass;
+}
+
+int run_campaign_index(const RunIndexOptions& o) {
+  const auto plan = read_plan(o.plan);
+  if (!plan) {
+    std::fprintf(stderr, "navbench: campaign run-index: %s\n", plan.error().detail.c_str());
+    return kExitUsage;
+  }
+  const auto index = index_to_run(o.index, o.index_offset, plan->size());
+  if (!index) {
+    std::fprintf(stderr, "navbench: campaign run-index: %s\n", index.error().detail.c_str());
+    return kExitUsage;
+  }
+  const std::size_t i = *index;
+  const auto inputs = plan_inputs(*plan);
+  if (!inputs) {
+    std::fprintf(stderr, "navbench: campaign run-index: %s\n", inputs.error().detail.c_str());
+    return kExitUsage;
+  }
+  const fs::path out = o.out_dir.empty() ? fs::path(o.plan).parent_path() : fs::path(o.out_dir);
+  if (auto ok = ensure_plan_in(out.empty() ? fs::path(".") : out, *plan); !ok) {
+    std::fprintf(stderr, "navbench: campaign run-index: %s\n", ok.error().detail.c_str());
+    return ok.error().code == ErrorCode::kIo ? kExitBench : kExitUsage;
+  }
+  const fs::path runs = (out.empty() ? fs::path(".") : out) / "runs";
+  const ScenarioInputs& si = (*inputs)[plan->scenario_of(i)];
+  const RunInputs expected = current_inputs(*plan, i, si.sha256, si.dut_sha256);
+  CampaignResult found;
+  if (done_already(*plan, i, runs, expected, &found) == Done::kYes) {
+    if (!o.quiet) {
+      std::fprintf(stderr, "navbench: campaign run-index: index %zu (%s) done already: %s\n", i,
+                   found.run_name.c_str(), found.verdict.c_str());
+    }
+    return kExitPass;
+  }
+
+  struct sigaction sa {};
+  sa.sa_handler = on_index_signal;
+  ::sigaction(SIGINT, &sa, nullptr);
+  ::sigaction(SIGTERM, &sa, nullptr);
+  auto child = start_index(*plan, i, runs);
+  if (!child) {
+    std::fprintf(stderr, "navbench: campaign run-index: index %zu: %s\n", i,
+                 child.error().detail.c_str());
+    return kExitBench;
+  }
+  int status = 0;
+  bool stopping = false;
+  auto kill_at = Clock::time_point::max();
+  for (;;) {
+    const pid_t w = ::waitpid(child->pid, &status, WNOHANG);
+    if (w == child->pid) break;
+    if (w < 0 && errno != EINTR) {
+      std::fprintf(stderr, "navbench: campaign run-index: index %zu: lost its run\n", i);
+      return kExitBench;
+    }
+    if (g_stop && !stopping) {
+      stopping = true;
+      ::kill(child->pid, SIGTERM);
+      kill_at = Clock::now() + kTerminateGrace;
+    } else if (stopping && Clock::now() >= kill_at) {
+      ::kill(child->pid, SIGKILL);
+      kill_at = Clock::time_point::max();
+    }
+    std::this_thread::sleep_for(kPollPeriod);
+  }
+  const double wall =
+      std::chrono::duration<double>(Clock::now() - child->start).count();
+  const IndexEnd e = finish_index(*plan, i, runs, status, wall, expected, stopping);
+  if (!o.quiet) std::fprintf(stderr, "%s\n", progress_line(1, 1, e).c_str());
+  if (e.finished) return kExitPass;
+  return stopping ? kExitInterrupted : kExitBench;
+}
+
+}  // namespace nav::bench

@@ -1,0 +1,167 @@
+// SPDX-License-Identifier: MIT
+// A campaign folder's outputs from its plan and results (campaign_outputs.hpp).
+#include "campaign/campaign_outputs.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+
+#include "campaign/campaign_runs.hpp"
+#include "nav/bench/campaign.hpp"
+#include "nav/common/version.hpp"
+#include "nav/reports/atomic_file.hpp"
+#include "nav/reports/html_report.hpp"
+#include "nav/reports/json_text.hpp"
+#include "run/host_identity.hpp"
+
+namespace nav::bench::detail {
+namespace {
+
+namespace fs = std::filesystem;
+using json = nlohmann::ordered_json;
+
+void write_atomically(const fs::path& path, const std::string& text) {
+  if (auto r = reports::write_file_atomically(path.string(), text); !r) {
+    throw std::runtime_error(r.error().detail);
+  }
+}
+
+json labels_json(const Labels& labels) {
+  json j = json::object();
+  for (const auto& [k, v] : labels) j[k] = v;
+  return j;
+}
+
+json number_or_null(double v) { return std::isnan(v) ? json(nullptr) : json(v); }
+
+std::string markdown_document(const CampaignHeader& h, const CampaignPlan& plan,
+                              std::size_t finished, const std::string& table) {
+  const std::uint64_t last = plan.first_seed + plan.seeds - 1;
+  std::string doc = "# navbench campaign\n\n";
+  doc += "Command: `" + command_line(h.command) + "`\n\n";
+  doc += "Seeds " + std::to_string(plan.first_seed) + "\u2013" + std::to_string(last) + " (" +
+         std::to_string(plan.seeds) + " per scenario), " + mode_name(plan.mode) + ", " +
+         std::to_string(plan.size()) + " runs of " + std::to_string(plan.scenarios.size()) +
+         (plan.scenarios.size() == 1 ? " scenario" : " scenarios") + ".\n\n";
+  if (finished < plan.size()) {
+    doc += std::string("**Incomplete") + (h.interrupted ? ": interrupted.** " : ".** ") +
+           std::to_string(finished) + " of " + std::to_string(plan.size()) +
+           " runs finished; the table is over those.\n\n";
+  }
+  doc += "Endpoint error: the value of the scenario's endpoint_error check (3-D position error "
+         "of the last solution), over the runs that reached the end of the scenario (exit 0 or "
+         "1); std is the sample standard deviation (n \u2212 1); \u2014 where undefined.\n\n";
+  return doc + table;
+}
+
+}  // namespace
+
+std::optional<int> write_campaign_outputs(const fs::path& dir, const CampaignPlan& plan,
+                           const std::vector<std::optional<CampaignResult>>& results,
+                           const CampaignHeader& h) {
+  std::vector<CampaignRun> runs(plan.size());
+  std::vector<int> codes;
+  std::size_t finished = 0;
+  for (std::size_t i = 0; i < plan.size(); ++i) {
+    CampaignRun& r = runs[i];
+    r.scenario = plan.scenarios[plan.scenario_of(i)].name;
+    r.seed = plan.seed_of(i);
+    r.run_folder = "runs/" + plan.run_name(i);
+    r.started = std::find(h.interrupted_indices.begin(), h.interrupted_indices.end(), i) !=
+                h.interrupted_indices.end();
+    if (const auto& res = results[i]) {
+      r.started = r.finished = true;
+      r.exit_code = res->exit_code;
+      r.verdict = res->verdict;
+      r.endpoint_error_m = res->endpoint_error_m;
+      r.wall_time_s = res->wall_time_s;
+      codes.push_back(res->exit_code);
+      ++finished;
+    }
+  }
+  std::vector<std::pair<std::string, Labels>> table_scenarios;
+  for (const auto& s : plan.scenarios) table_scenarios.emplace_back(s.name, s.labels);
+  const auto rows = comparison_rows(table_scenarios, runs);
+  const std::string table = comparison_markdown(rows);
+  const int exit_code = campaign_exit_code(codes);
+
+  json j;
+  j["command"] = h.command;
+  j["command_line"] = command_line(h.command);
+  j["plan"] = "plan.json";
+  j["seeds"] = {{"first", plan.first_seed},
+                {"last", plan.first_seed + plan.seeds - 1},
+                {"count", plan.seeds}};
+  j["mode"] = mode_name(plan.mode);
+  j["jobs"] = h.jobs ? json(*h.jobs) : json(nullptr);
+  j["started_utc"] = h.started_utc;
+  j["navbench_version"] = navbench_version();
+  j["host"] = {{"name", host_identity().name}, {"kernel", host_identity().kernel}};
+  j["wall_time_s"] = h.wall_time_s;
+  j["complete"] = finished == plan.size();
+  j["runs_finished"] = finished;
+  j["exit_code"] = h.interrupted ? 130 : exit_code;
+  j["scenarios"] = json::array();
+  for (const auto& s : plan.scenarios) {
+    j["scenarios"].push_back(
+        {{"name", s.name},
+         {"file", s.file},
+         {"sha256", s.sha256},
+         {"labels", labels_json(s.labels)},
+         {"endpoint_check", s.endpoint_check.empty() ? json(nullptr) : json(s.endpoint_check)}});
+  }
+  j["runs"] = json::array();
+  for (std::size_t s = 0; s < plan.scenarios.size(); ++s) {
+    for (std::size_t i = s; i < runs.size(); i += plan.scenarios.size()) {
+      const auto& r = runs[i];
+      json e;
+      e["index"] = i;
+      e["scenario"] = r.scenario;
+      e["labels"] = labels_json(plan.scenarios[s].labels);
+      e["seed"] = r.seed;
+      e["status"] = r.finished ? "finished" : r.started ? "interrupted" : "not run";
+      e["exit_code"] = r.finished ? json(r.exit_code) : nullptr;
+      e["verdict"] = r.finished ? json(r.verdict) : nullptr;
+      e["endpoint_error_m"] = r.endpoint_error_m ? json(*r.endpoint_error_m) : nullptr;
+      e["run_folder"] = r.run_folder;
+      e["wall_time_s"] = r.wall_time_s;
+      if (const auto& res = results[i]) {
+        e["host"] = res->host;
+        e["inputs"] = result_json(*res)["inputs"];
+      }
+      j["runs"].push_back(std::move(e));
+    }
+  }
+  j["comparison"] = json::array();
+  for (const auto& row : rows) {
+    j["comparison"].push_back({{"scenario", row.scenario},
+                               {"labels", labels_json(row.labels)},
+                               {"runs", row.runs},
+                               {"passed", row.passed},
+                               {"endpoint_error_m",
+                                {{"n", row.endpoint.n},
+                                 {"mean", number_or_null(row.endpoint.mean)},
+                                 {"std", number_or_null(row.endpoint.stddev)},
+                                 {"min", number_or_null(row.endpoint.min)},
+                                 {"max", number_or_null(row.endpoint.max)}}}});
+  }
+  try {
+    write_atomically(dir / "comparison.csv", comparison_csv(rows));
+    write_atomically(dir / "comparison.md", markdown_document(h, plan, finished, table));
+    write_atomically(dir / "campaign.json", reports::dump_json(j, 2) + "\n");
+    // The campaign report from the files just written, as `navbench report DIR` makes it.
+    if (const auto report = reports::write_report(dir.string()); !report) {
+      throw std::runtime_error("campaign.html: " + report.error().detail);
+    }
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "navbench: campaign: %s\n", e.what());
+    std::fputs(table.c_str(), stdout);
+    return std::nullopt;
+  }
+  std::fputs(table.c_str(), stdout);
+  std::fflush(stdout);
+  return exit_code;
+}
+
+}  // namespace nav::bench::detail

@@ -1,0 +1,229 @@
+// SPDX-License-Identifier: MIT
+// The campaign plan: made from scenario files, written to and read from plan.json, cut into
+// shards, and the index a task runs (campaign_plan.hpp).
+#include "nav/bench/campaign_plan.hpp"
+
+#include <cerrno>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <map>
+
+#include "nav/bench/runner.hpp"
+#include "nav/reports/sha256.hpp"
+
+namespace nav::bench {
+namespace {
+
+namespace fs = std::filesystem;
+
+/// The format plan.json declares; a plan of another format is refused.
+constexpr const char* kPlanFormat = "navbench-campaign-plan/1";
+
+const char* mode_name(TimeMode m) { return m == TimeMode::kLockstep ? "lockstep" : "realtime"; }
+
+/// A decimal index (no sign, no spaces, no leading '+'); nullopt when text is not one.
+std::optional<std::uint64_t> parse_index(const std::string& text) {
+  if (text.empty() || text.size() > 19 || text.find_first_not_of("0123456789") != std::string::npos) {
+    return std::nullopt;
+  }
+  return std::stoull(text);
+}
+
+/// j[key], or null when j is no object or has no such key (a const json's operator[] must
+/// not be given a missing key).
+const nlohmann::ordered_json& at(const nlohmann::ordered_json& j, const char* key) {
+  static const nlohmann::ordered_json null;
+  if (!j.is_object()) return null;
+  const auto it = j.find(key);
+  return it == j.end() ? null : *it;
+}
+
+}  // namespace
+
+std::string CampaignPlan::run_name(std::size_t i) const {
+  return scenarios[scenario_of(i)].name + "-s" + std::to_string(seed_of(i));
+}
+
+Result<CampaignPlan> make_plan(const std::vector<std::string>& scenario_files, std::uint64_t seeds,
+                               std::uint64_t first_seed, TimeMode mode) {
+  if (seeds == 0) return fail(ErrorCode::kInvalidArgument, "--seeds must be at least 1");
+  if (seeds - 1 > std::numeric_limits<std::uint64_t>::max() - first_seed) {
+    return fail(ErrorCode::kInvalidArgument,
+                "--first-seed " + std::to_string(first_seed) + " with --seeds " +
+                    std::to_string(seeds) +
+                    " runs past the largest seed, 18446744073709551615");
+  }
+  if (scenario_files.empty()) return fail(ErrorCode::kInvalidArgument, "no scenario given");
+  if (seeds > kMaxPlanRuns / scenario_files.size()) {
+    return fail(ErrorCode::kInvalidArgument, "more than 1000000 runs; fewer --seeds");
+  }
+  CampaignPlan plan;
+  plan.mode = mode;
+  plan.first_seed = first_seed;
+  plan.seeds = seeds;
+  std::map<std::string, std::string> names;  // scenario name -> file
+  for (const auto& path : scenario_files) {
+    auto sc = preflight_scenario(path);
+    if (!sc) return tl::unexpected(sc.error());
+    const auto [it, fresh] = names.emplace(sc->name, path);
+    if (!fresh) {
+      return fail(ErrorCode::kInvalidArgument,
+                  path + ": scenario name '" + sc->name + "' is also the name of " + it->second +
+                      " (run folders are named after scenarios: give each its own name)");
+    }
+    std::error_code ec;
+    const fs::path absolute = fs::absolute(path, ec);
+    PlanScenario s;
+    s.file = (ec ? fs::path(path) : absolute.lexically_normal()).string();
+    s.sha256 = reports::sha256_file(path).value_or("");
+    if (s.sha256.empty()) return fail(ErrorCode::kIo, path + ": cannot read it to hash it");
+    s.name = sc->name;
+    s.labels = sc->labels;
+    for (const auto& check : sc->checks) {
+      if (check.kind == CheckSpec::Kind::kEndpointError) {
+        s.endpoint_check = check.name;
+        break;
+      }
+    }
+    plan.scenarios.push_back(std::move(s));
+  }
+  return plan;
+}
+
+nlohmann::ordered_json plan_json(const CampaignPlan& plan) {
+  nlohmann::ordered_json j;
+  j["format"] = kPlanFormat;
+  j["mode"] = mode_name(plan.mode);
+  j["seeds"] = {{"first", plan.first_seed},
+                {"last", plan.first_seed + plan.seeds - 1},
+                {"count", plan.seeds}};
+  j["runs"] = plan.size();
+  j["order"] = "index i: seed first + i / S of scenario i % S (S scenarios, in this order)";
+  j["scenarios"] = nlohmann::ordered_json::array();
+  for (const auto& s : plan.scenarios) {
+    nlohmann::ordered_json labels = nlohmann::ordered_json::object();
+    for (const auto& [k, v] : s.labels) labels[k] = v;
+    j["scenarios"].push_back({{"name", s.name},
+                              {"file", s.file},
+                              {"sha256", s.sha256},
+                              {"labels", std::move(labels)},
+                              {"endpoint_check", s.endpoint_check.empty()
+                                                     ? nlohmann::ordered_json(nullptr)
+                                                     : nlohmann::ordered_json(s.endpoint_check)}});
+  }
+  return j;
+}
+
+Result<CampaignPlan> plan_from_json(const nlohmann::ordered_json& j, const std::string& where) {
+  const auto bad = [&](const std::string& what) {
+    return fail(ErrorCode::kParse, where + ": not a navbench campaign plan: " + what);
+  };
+  if (!j.is_object()) return bad("not a JSON object");
+  if (at(j, "format") != kPlanFormat) {
+    return bad(std::string("\"format\" is not \"") + kPlanFormat + "\"");
+  }
+  CampaignPlan plan;
+  const auto& m = at(j, "mode");
+  const std::string mode = m.is_string() ? m.get<std::string>() : std::string();
+  if (mode != "lockstep" && mode != "realtime") return bad("\"mode\" is neither lockstep nor realtime");
+  plan.mode = mode == "lockstep" ? TimeMode::kLockstep : TimeMode::kRealtime;
+  const auto& seeds = at(j, "seeds");
+  if (!at(seeds, "first").is_number_unsigned() || !at(seeds, "count").is_number_unsigned()) {
+    return bad("\"seeds\" needs unsigned \"first\" and \"count\"");
+  }
+  plan.first_seed = at(seeds, "first").get<std::uint64_t>();
+  plan.seeds = at(seeds, "count").get<std::uint64_t>();
+  const auto& list = at(j, "scenarios");
+  if (!list.is_array() || list.empty()) return bad("no \"scenarios\"");
+  for (const auto& s : list) {
+    if (!at(s, "name").is_string() || !at(s, "file").is_string() || !at(s, "sha256").is_string()) {
+      return bad("a scenario needs \"name\", \"file\" and \"sha256\"");
+    }
+    PlanScenario p;
+    p.name = at(s, "name").get<std::string>();
+    p.file = at(s, "file").get<std::string>();
+    p.sha256 = at(s, "sha256").get<std::string>();
+    if (const auto& l = at(s, "labels"); l.is_object()) {
+      for (const auto& [k, v] : l.items()) {
+        if (v.is_string()) p.labels.emplace_back(k, v.get<std::string>());
+      }
+    }
+    if (const auto& e = at(s, "endpoint_check"); e.is_string()) p.endpoint_check = e.get<std::string>();
+    plan.scenarios.push_back(std::move(p));
+  }
+  if (plan.seeds == 0 || plan.seeds - 1 > std::numeric_limits<std::uint64_t>::max() - plan.first_seed ||
+      plan.seeds > kMaxPlanRuns / plan.scenarios.size()) {
+    return bad("\"seeds\" out of range");
+  }
+  if (const auto& runs = at(j, "runs"); !runs.is_number_unsigned() || runs != plan.size()) {
+    return bad("\"runs\" is not scenarios x seeds");
+  }
+  return plan;
+}
+
+Result<CampaignPlan> read_plan(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) return fail(ErrorCode::kNotFound, path + ": cannot open it (" + std::strerror(errno) + ")");
+  const auto j = nlohmann::ordered_json::parse(in, nullptr, false);
+  if (j.is_discarded()) return fail(ErrorCode::kParse, path + ": not JSON");
+  return plan_from_json(j, path);
+}
+
+Result<Shard> parse_shard(const std::string& text) {
+  const auto slash = text.find('/');
+  const auto usage = [&] {
+    return fail(ErrorCode::kInvalidArgument,
+                "--shard must be K/N with 1 <= K <= N (the K-th of N shards), not '" + text + "'");
+  };
+  if (slash == std::string::npos) return usage();
+  const auto k = parse_index(text.substr(0, slash));
+  const auto n = parse_index(text.substr(slash + 1));
+  if (!k || !n || *k == 0 || *k > *n || *n > kMaxPlanRuns) return usage();
+  return Shard{static_cast<std::size_t>(*k), static_cast<std::size_t>(*n)};
+}
+
+std::vector<std::size_t> shard_indices(std::size_t size, const Shard& shard) {
+  std::vector<std::size_t> out;
+  for (std::size_t i = shard.k - 1; i < size; i += shard.n) out.push_back(i);
+  return out;
+}
+
+Result<std::size_t> index_to_run(std::optional<std::uint64_t> flag, std::uint64_t offset,
+                                 std::size_t plan_size) {
+  std::uint64_t index = 0;
+  std::string source;
+  if (flag) {
+    index = *flag;
+    source = "the index";
+  } else {
+    for (const char* name : {"SLURM_ARRAY_TASK_ID", "JOB_COMPLETION_INDEX"}) {
+      const char* value = std::getenv(name);
+      if (value == nullptr) continue;
+      const auto parsed = parse_index(value);
+      if (!parsed) {
+        return fail(ErrorCode::kInvalidArgument,
+                    std::string(name) + "='" + value + "' is not an index (a whole number >= 0)");
+      }
+      index = *parsed;
+      source = name;
+      break;
+    }
+    if (source.empty()) {
+      return fail(ErrorCode::kInvalidArgument,
+                  "no index: give INDEX (or --index), or run as a Slurm array task "
+                  "(SLURM_ARRAY_TASK_ID) or a Kubernetes Indexed Job (JOB_COMPLETION_INDEX)");
+    }
+  }
+  if (offset > kMaxPlanRuns || index > kMaxPlanRuns || index + offset >= plan_size) {
+    return fail(ErrorCode::kInvalidArgument,
+                source + " " + std::to_string(index) +
+                    (offset != 0 ? " + --index-offset " + std::to_string(offset) : std::string()) +
+                    " is past the plan's last index, " + std::to_string(plan_size - 1));
+  }
+  return static_cast<std::size_t>(index + offset);
+}
+
+}  // namespace nav::bench

@@ -1,0 +1,108 @@
+// SPDX-License-Identifier: MIT
+// result.json of a campaign's result folder (campaign_result.hpp).
+#include "nav/bench/campaign_result.hpp"
+
+#include <fstream>
+
+#include "nav/common/version.hpp"
+
+namespace nav::bench {
+namespace {
+
+constexpr const char* kResultFormat = "navbench-campaign-result/1";
+
+/// j[key], or null when j is no object or has no such key.
+const nlohmann::json& at(const nlohmann::json& j, const char* key) {
+  static const nlohmann::json null;
+  if (!j.is_object()) return null;
+  const auto it = j.find(key);
+  return it == j.end() ? null : *it;
+}
+
+}  // namespace
+
+nlohmann::ordered_json result_json(const CampaignResult& r) {
+  nlohmann::ordered_json j;
+  j["format"] = kResultFormat;
+  j["index"] = r.index;
+  j["scenario"] = r.scenario;
+  j["run_name"] = r.run_name;
+  j["inputs"] = {{"scenario_sha256", r.inputs.scenario_sha256},
+                 {"seed", r.inputs.seed},
+                 {"mode", r.inputs.mode},
+                 {"dut_sha256", r.inputs.dut_sha256},
+                 {"navbench_version", r.inputs.navbench_version}};
+  j["exit_code"] = r.exit_code;
+  j["verdict"] = r.verdict;
+  j["endpoint_error_m"] =
+      r.endpoint_error_m ? nlohmann::ordered_json(*r.endpoint_error_m) : nullptr;
+  j["wall_time_s"] = r.wall_time_s;
+  j["host"] = r.host;
+  j["finished_utc"] = r.finished_utc;
+  return j;
+}
+
+Result<CampaignResult> result_from_json(const nlohmann::json& j, const std::string& where) {
+  const auto bad = [&](const std::string& what) {
+    return fail(ErrorCode::kParse, where + ": not a navbench campaign result: " + what);
+  };
+  if (at(j, "format") != kResultFormat) {
+    return bad(std::string("\"format\" is not \"") + kResultFormat + "\"");
+  }
+  const auto& in = at(j, "inputs");
+  if (!at(j, "index").is_number_unsigned() || !at(j, "scenario").is_string() ||
+      !at(j, "run_name").is_string() || !at(j, "exit_code").is_number_integer() ||
+      !at(j, "verdict").is_string() || !at(in, "scenario_sha256").is_string() ||
+      !at(in, "seed").is_number_unsigned() || !at(in, "mode").is_string() ||
+      !at(in, "dut_sha256").is_array() || !at(in, "navbench_version").is_string()) {
+    return bad("a field is missing or of the wrong type");
+  }
+  CampaignResult r;
+  r.index = at(j, "index").get<std::size_t>();
+  r.scenario = at(j, "scenario").get<std::string>();
+  r.run_name = at(j, "run_name").get<std::string>();
+  r.inputs.scenario_sha256 = at(in, "scenario_sha256").get<std::string>();
+  r.inputs.seed = at(in, "seed").get<std::uint64_t>();
+  r.inputs.mode = at(in, "mode").get<std::string>();
+  for (const auto& d : at(in, "dut_sha256")) {
+    if (!d.is_string()) return bad("\"dut_sha256\" holds a non-string");
+    r.inputs.dut_sha256.push_back(d.get<std::string>());
+  }
+  r.inputs.navbench_version = at(in, "navbench_version").get<std::string>();
+  r.exit_code = at(j, "exit_code").get<int>();
+  r.verdict = at(j, "verdict").get<std::string>();
+  if (const auto& e = at(j, "endpoint_error_m"); e.is_number()) r.endpoint_error_m = e.get<double>();
+  if (const auto& w = at(j, "wall_time_s"); w.is_number()) r.wall_time_s = w.get<double>();
+  if (const auto& h = at(j, "host"); h.is_string()) r.host = h.get<std::string>();
+  if (const auto& f = at(j, "finished_utc"); f.is_string()) r.finished_utc = f.get<std::string>();
+  return r;
+}
+
+Result<CampaignResult> read_result(const std::filesystem::path& folder) {
+  const auto path = folder / "result.json";
+  std::ifstream in(path);
+  if (!in) return fail(ErrorCode::kNotFound, path.string() + ": no result");
+  const auto j = nlohmann::json::parse(in, nullptr, false);
+  if (j.is_discarded()) return fail(ErrorCode::kParse, path.string() + ": not JSON");
+  return result_from_json(j, path.string());
+}
+
+bool same_result(const CampaignResult& a, const CampaignResult& b) {
+  return a.index == b.index && a.run_name == b.run_name && a.inputs == b.inputs &&
+         a.exit_code == b.exit_code && a.verdict == b.verdict &&
+         a.endpoint_error_m == b.endpoint_error_m;
+}
+
+RunInputs current_inputs(const CampaignPlan& plan, std::size_t i,
+                         const std::string& scenario_sha256,
+                         const std::vector<std::string>& dut_sha256) {
+  RunInputs in;
+  in.scenario_sha256 = scenario_sha256;
+  in.seed = plan.seed_of(i);
+  in.mode = plan.mode == TimeMode::kLockstep ? "lockstep" : "realtime";
+  in.dut_sha256 = dut_sha256;
+  in.navbench_version = navbench_version();
+  return in;
+}
+
+}  // namespace nav::bench
