@@ -11,6 +11,7 @@
 #include <limits>
 #include <map>
 
+#include "campaign/json_at.hpp"
 #include "nav/bench/runner.hpp"
 #include "nav/reports/sha256.hpp"
 
@@ -32,14 +33,7 @@ std::optional<std::uint64_t> parse_index(const std::string& text) {
   return std::stoull(text);
 }
 
-/// j[key], or null when j is no object or has no such key (a const json's operator[] must
-/// not be given a missing key).
-const nlohmann::ordered_json& at(const nlohmann::ordered_json& j, const char* key) {
-  static const nlohmann::ordered_json null;
-  if (!j.is_object()) return null;
-  const auto it = j.find(key);
-  return it == j.end() ? null : *it;
-}
+using detail::json_at;
 
 }  // namespace
 
@@ -122,43 +116,43 @@ Result<CampaignPlan> plan_from_json(const nlohmann::ordered_json& j, const std::
     return fail(ErrorCode::kParse, where + ": not a navbench campaign plan: " + what);
   };
   if (!j.is_object()) return bad("not a JSON object");
-  if (at(j, "format") != kPlanFormat) {
+  if (json_at(j, "format") != kPlanFormat) {
     return bad(std::string("\"format\" is not \"") + kPlanFormat + "\"");
   }
   CampaignPlan plan;
-  const auto& m = at(j, "mode");
+  const auto& m = json_at(j, "mode");
   const std::string mode = m.is_string() ? m.get<std::string>() : std::string();
   if (mode != "lockstep" && mode != "realtime") return bad("\"mode\" is neither lockstep nor realtime");
   plan.mode = mode == "lockstep" ? TimeMode::kLockstep : TimeMode::kRealtime;
-  const auto& seeds = at(j, "seeds");
-  if (!at(seeds, "first").is_number_unsigned() || !at(seeds, "count").is_number_unsigned()) {
+  const auto& seeds = json_at(j, "seeds");
+  if (!json_at(seeds, "first").is_number_unsigned() || !json_at(seeds, "count").is_number_unsigned()) {
     return bad("\"seeds\" needs unsigned \"first\" and \"count\"");
   }
-  plan.first_seed = at(seeds, "first").get<std::uint64_t>();
-  plan.seeds = at(seeds, "count").get<std::uint64_t>();
-  const auto& list = at(j, "scenarios");
+  plan.first_seed = json_at(seeds, "first").get<std::uint64_t>();
+  plan.seeds = json_at(seeds, "count").get<std::uint64_t>();
+  const auto& list = json_at(j, "scenarios");
   if (!list.is_array() || list.empty()) return bad("no \"scenarios\"");
   for (const auto& s : list) {
-    if (!at(s, "name").is_string() || !at(s, "file").is_string() || !at(s, "sha256").is_string()) {
+    if (!json_at(s, "name").is_string() || !json_at(s, "file").is_string() || !json_at(s, "sha256").is_string()) {
       return bad("a scenario needs \"name\", \"file\" and \"sha256\"");
     }
     PlanScenario p;
-    p.name = at(s, "name").get<std::string>();
-    p.file = at(s, "file").get<std::string>();
-    p.sha256 = at(s, "sha256").get<std::string>();
-    if (const auto& l = at(s, "labels"); l.is_object()) {
+    p.name = json_at(s, "name").get<std::string>();
+    p.file = json_at(s, "file").get<std::string>();
+    p.sha256 = json_at(s, "sha256").get<std::string>();
+    if (const auto& l = json_at(s, "labels"); l.is_object()) {
       for (const auto& [k, v] : l.items()) {
         if (v.is_string()) p.labels.emplace_back(k, v.get<std::string>());
       }
     }
-    if (const auto& e = at(s, "endpoint_check"); e.is_string()) p.endpoint_check = e.get<std::string>();
+    if (const auto& e = json_at(s, "endpoint_check"); e.is_string()) p.endpoint_check = e.get<std::string>();
     plan.scenarios.push_back(std::move(p));
   }
   if (plan.seeds == 0 || plan.seeds - 1 > std::numeric_limits<std::uint64_t>::max() - plan.first_seed ||
       plan.seeds > kMaxPlanRuns / plan.scenarios.size()) {
     return bad("\"seeds\" out of range");
   }
-  if (const auto& runs = at(j, "runs"); !runs.is_number_unsigned() || runs != plan.size()) {
+  if (const auto& runs = json_at(j, "runs"); !runs.is_number_unsigned() || runs != plan.size()) {
     return bad("\"runs\" is not scenarios x seeds");
   }
   return plan;

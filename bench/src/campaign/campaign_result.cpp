@@ -4,6 +4,7 @@
 
 #include <fstream>
 
+#include "campaign/json_at.hpp"
 #include "nav/common/version.hpp"
 
 namespace nav::bench {
@@ -11,13 +12,7 @@ namespace {
 
 constexpr const char* kResultFormat = "navbench-campaign-result/1";
 
-/// j[key], or null when j is no object or has no such key.
-const nlohmann::json& at(const nlohmann::json& j, const char* key) {
-  static const nlohmann::json null;
-  if (!j.is_object()) return null;
-  const auto it = j.find(key);
-  return it == j.end() ? null : *it;
-}
+using detail::json_at;
 
 }  // namespace
 
@@ -46,35 +41,35 @@ Result<CampaignResult> result_from_json(const nlohmann::json& j, const std::stri
   const auto bad = [&](const std::string& what) {
     return fail(ErrorCode::kParse, where + ": not a navbench campaign result: " + what);
   };
-  if (at(j, "format") != kResultFormat) {
+  if (json_at(j, "format") != kResultFormat) {
     return bad(std::string("\"format\" is not \"") + kResultFormat + "\"");
   }
-  const auto& in = at(j, "inputs");
-  if (!at(j, "index").is_number_unsigned() || !at(j, "scenario").is_string() ||
-      !at(j, "run_name").is_string() || !at(j, "exit_code").is_number_integer() ||
-      !at(j, "verdict").is_string() || !at(in, "scenario_sha256").is_string() ||
-      !at(in, "seed").is_number_unsigned() || !at(in, "mode").is_string() ||
-      !at(in, "dut_sha256").is_array() || !at(in, "navbench_version").is_string()) {
+  const auto& in = json_at(j, "inputs");
+  if (!json_at(j, "index").is_number_unsigned() || !json_at(j, "scenario").is_string() ||
+      !json_at(j, "run_name").is_string() || !json_at(j, "exit_code").is_number_integer() ||
+      !json_at(j, "verdict").is_string() || !json_at(in, "scenario_sha256").is_string() ||
+      !json_at(in, "seed").is_number_unsigned() || !json_at(in, "mode").is_string() ||
+      !json_at(in, "dut_sha256").is_array() || !json_at(in, "navbench_version").is_string()) {
     return bad("a field is missing or of the wrong type");
   }
   CampaignResult r;
-  r.index = at(j, "index").get<std::size_t>();
-  r.scenario = at(j, "scenario").get<std::string>();
-  r.run_name = at(j, "run_name").get<std::string>();
-  r.inputs.scenario_sha256 = at(in, "scenario_sha256").get<std::string>();
-  r.inputs.seed = at(in, "seed").get<std::uint64_t>();
-  r.inputs.mode = at(in, "mode").get<std::string>();
-  for (const auto& d : at(in, "dut_sha256")) {
+  r.index = json_at(j, "index").get<std::size_t>();
+  r.scenario = json_at(j, "scenario").get<std::string>();
+  r.run_name = json_at(j, "run_name").get<std::string>();
+  r.inputs.scenario_sha256 = json_at(in, "scenario_sha256").get<std::string>();
+  r.inputs.seed = json_at(in, "seed").get<std::uint64_t>();
+  r.inputs.mode = json_at(in, "mode").get<std::string>();
+  for (const auto& d : json_at(in, "dut_sha256")) {
     if (!d.is_string()) return bad("\"dut_sha256\" holds a non-string");
     r.inputs.dut_sha256.push_back(d.get<std::string>());
   }
-  r.inputs.navbench_version = at(in, "navbench_version").get<std::string>();
-  r.exit_code = at(j, "exit_code").get<int>();
-  r.verdict = at(j, "verdict").get<std::string>();
-  if (const auto& e = at(j, "endpoint_error_m"); e.is_number()) r.endpoint_error_m = e.get<double>();
-  if (const auto& w = at(j, "wall_time_s"); w.is_number()) r.wall_time_s = w.get<double>();
-  if (const auto& h = at(j, "host"); h.is_string()) r.host = h.get<std::string>();
-  if (const auto& f = at(j, "finished_utc"); f.is_string()) r.finished_utc = f.get<std::string>();
+  r.inputs.navbench_version = json_at(in, "navbench_version").get<std::string>();
+  r.exit_code = json_at(j, "exit_code").get<int>();
+  r.verdict = json_at(j, "verdict").get<std::string>();
+  if (const auto& e = json_at(j, "endpoint_error_m"); e.is_number()) r.endpoint_error_m = e.get<double>();
+  if (const auto& w = json_at(j, "wall_time_s"); w.is_number()) r.wall_time_s = w.get<double>();
+  if (const auto& h = json_at(j, "host"); h.is_string()) r.host = h.get<std::string>();
+  if (const auto& f = json_at(j, "finished_utc"); f.is_string()) r.finished_utc = f.get<std::string>();
   return r;
 }
 
