@@ -16,6 +16,7 @@
 
 #include "campaign/campaign_outputs.hpp"
 #include "campaign/campaign_runs.hpp"
+#include "campaign/live_progress.hpp"
 #include "nav/bench/runner.hpp"
 #include "nav/reports/atomic_file.hpp"
 #include "nav/reports/json_text.hpp"
@@ -145,9 +146,12 @@ int run_campaign(const CampaignOptions& o) {
   std::size_t next = 0, ended = 0;
   bool terminating = false;
   Clock::time_point kill_at{};
+  LiveProgress live(todo.size(), !o.quiet);
   const auto report = [&](const IndexEnd& e) {
     ++ended;
-    if (!o.quiet) std::fprintf(stderr, "%s\n", progress_line(ended, todo.size(), e).c_str());
+    if (!o.quiet) {
+      live.finished(progress_line(ended, todo.size(), e), e.result.exit_code != kExitPass);
+    }
   };
   while (true) {
     while (!g_stop && next < todo.size() && running.size() < o.jobs) {
@@ -188,6 +192,7 @@ int run_campaign(const CampaignOptions& o) {
       terminating = true;
       kill_at = Clock::now() + kTerminateGrace;
       if (!o.quiet) {
+        live.clear();
         std::fprintf(stderr, "navbench: campaign interrupted: stopping %zu running run%s\n",
                      running.size(), running.size() == 1 ? "" : "s");
       }
@@ -196,8 +201,10 @@ int run_campaign(const CampaignOptions& o) {
       for (const auto& c : running) ::kill(c.pid, SIGKILL);
       kill_at = Clock::time_point::max();
     }
+    live.tick(running.size());
     std::this_thread::sleep_for(kPollPeriod);
   }
+  live.clear();
 
   header.interrupted = g_stop.load();
   header.wall_time_s = seconds_since(campaign_start);

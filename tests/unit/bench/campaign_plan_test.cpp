@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "campaign/live_progress.hpp"
 #include "nav/bench/campaign_result.hpp"
 
 namespace nav::bench {
@@ -210,6 +211,16 @@ TEST(CampaignResult, SameMeansSameInputsAndOutcomeWhereverItRan) {
   other_verdict.exit_code = 0;
   other_verdict.verdict = "PASS";
   EXPECT_FALSE(same_result(r, other_verdict));
+}
+
+TEST(LiveProgress, DoneRunningFailedElapsedAndTheTimeLeftAtTheRateSoFar) {
+  using detail::LiveProgress;
+  EXPECT_EQ(LiveProgress::text(12, 40, 2, 1, 83.0),
+            "[12/40 done, 2 running, 1 failed] 1:23 elapsed, about 3:14 left");
+  EXPECT_EQ(LiveProgress::text(0, 5, 1, 0, 3.2), "[0/5 done, 1 running, 0 failed] 0:03 elapsed");
+  EXPECT_EQ(LiveProgress::text(5, 5, 0, 0, 10.0), "[5/5 done, 0 running, 0 failed] 0:10 elapsed");
+  EXPECT_EQ(LiveProgress::text(1, 3, 0, 0, 3700.0),
+            "[1/3 done, 0 running, 0 failed] 1:01:40 elapsed, about 2:03:20 left");
 }
 
 }  // namespace
