@@ -116,11 +116,26 @@ CampaignCli::CampaignCli(CLI::App& app) : p_(std::make_unique<Parts>()) {
       ->required()
       ->check(cli::kNotEmpty);
   p.plan->add_flag("-q,--quiet", p.plan_options.quiet, "No summary line");
+  p.plan->add_flag("--slurm", p.plan_options.slurm,
+                   "Also write DIR/slurm/: sbatch job arrays of run-index tasks and a merge job "
+                   "after them (DIR/slurm/submit.sh submits them)");
+  p.plan->add_option("--slurm-limit", p.plan_options.slurm_limit,
+                     "Tasks of one array running at a time (the array's %M; default 16)")
+      ->check(CLI::Range(std::size_t{1}, std::size_t{100000}));
+  p.plan->add_option("--max-array-size", p.plan_options.max_array_size,
+                     "The cluster's MaxArraySize (default 1001, Slurm's): larger plans get "
+                     "several arrays")
+      ->check(CLI::Range(std::size_t{1}, std::size_t{4000001}));
   p.plan->footer(
       "Writes DIR/plan.json and DIR/runs/, and says how many indices the plan has. Run each\n"
       "with `navbench campaign run-index DIR/plan.json I` (a shell loop, GNU parallel, a Slurm\n"
       "array, a Kubernetes Indexed Job: docs/campaigns.md), then\n"
       "`navbench campaign merge DIR -o OUT`.\n\n"
+      "--slurm: DIR/slurm/array-<k>.sbatch (a job array each of at most --max-array-size\n"
+      "tasks, at most --slurm-limit at a time; task t runs index t + its array's offset),\n"
+      "merge.sbatch (navbench campaign merge DIR -o DIR/campaign) and submit.sh [--wait]\n"
+      "[SBATCH OPTION...], which submits the arrays and the merge job with\n"
+      "--dependency=afterok on them; the jobs run this navbench by its absolute path.\n\n"
       "Exit codes: 0 written; 2 usage or scenario error, or DIR exists; 3 it cannot be written.");
 
   p.run_index = p.campaign->add_subcommand(

@@ -14,6 +14,7 @@
 
 #include "campaign/campaign_runs.hpp"
 #include "nav/bench/campaign.hpp"
+#include "nav/bench/campaign_engines.hpp"
 #include "nav/bench/runner.hpp"
 #include "nav/reports/atomic_file.hpp"
 #include "nav/reports/json_text.hpp"
@@ -74,7 +75,34 @@ int write_campaign_plan(const PlanOptions& o) {
     std::fprintf(stderr, "navbench: campaign plan: %s\n", made.error().detail.c_str());
     return made.error().code == ErrorCode::kIo ? kExitBench : kExitUsage;
   }
+  if (o.slurm) {
+    const fs::path dir = fs::absolute(out, ec).lexically_normal();
+    SlurmOptions so;
+    so.plan_dir = dir.string();
+    so.navbench = fs::read_symlink("/proc/self/exe", ec).string();
+    so.job_name = "navbench-" + dir.filename().string();
+    so.limit = o.slurm_limit;
+    so.max_array_size = o.max_array_size;
+    fs::create_directories(dir / "slurm", ec);
+    for (const auto& [name, text] : slurm_files(*plan, so)) {
+      const fs::path path = dir / "slurm" / name;
+      auto w = reports::write_file_atomically(path.string(), text);
+      if (w && name.size() > 3 && name.substr(name.size() - 3) == ".sh") {
+        fs::permissions(path, fs::perms::owner_exec | fs::perms::group_exec | fs::perms::others_exec,
+                        fs::perm_options::add, ec);
+      }
+      if (!w || ec) {
+        std::fprintf(stderr, "navbench: campaign plan: %s\n",
+                     !w ? w.error().detail.c_str() : (path.string() + ": " + ec.message()).c_str());
+        return kExitBench;
+      }
+    }
+  }
   if (!o.quiet) {
+    if (o.slurm) {
+      std::fprintf(stderr, "navbench: campaign plan: Slurm: %s/slurm/submit.sh submits it\n",
+                   out.c_str());
+    }
     std::fprintf(stderr,
                  "navbench: campaign plan: %s: %zu runs (indices 0 to %zu: %zu scenario%s x %llu "
                  "seeds)\n",

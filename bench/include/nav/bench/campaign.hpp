@@ -57,6 +57,9 @@ struct PlanOptions {
   TimeMode mode = TimeMode::kLockstep;
   std::string out_dir;
   bool quiet = false;
+  bool slurm = false;                  ///< also DIR/slurm/ (campaign_engines.hpp)
+  std::size_t slurm_limit = 16;        ///< tasks of an array at a time (%M)
+  std::size_t max_array_size = 1001;   ///< the cluster's MaxArraySize
 };
 int write_campaign_plan(const PlanOptions& options);
 
