@@ -38,7 +38,8 @@ class NavbenchCampaignShards : public ::testing::Test {
 /// Each run's index, seed, exit code and endpoint error from a campaign.json, by index.
 std::map<int, std::string> outcomes(const fs::path& campaign_json) {
   std::map<int, std::string> out;
-  for (const auto& r : load_json(campaign_json)["runs"]) {
+  const nlohmann::json campaign = load_json(campaign_json);  // (a loop over a temporary's
+  for (const auto& r : campaign["runs"]) {                    // member would outlive it)
     out[r["index"].get<int>()] = r["run_folder"].get<std::string>() + " " + r["status"].dump() +
                                  " " + r["exit_code"].dump() + " " + r["endpoint_error_m"].dump();
   }
