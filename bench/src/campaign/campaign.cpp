@@ -7,7 +7,6 @@
 #include <signal.h>
 #include <sys/wait.h>
 
-#include <atomic>
 #include <cerrno>
 #include <chrono>
 #include <cstdio>
@@ -27,11 +26,6 @@ namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 using namespace detail;
-
-std::atomic<bool> g_stop{false};
-extern "C" void on_campaign_signal(int) { g_stop = true; }
-
-constexpr auto kPollPeriod = std::chrono::milliseconds(10);
 
 double seconds_since(Clock::time_point t) {
   return std::chrono::duration<double>(Clock::now() - t).count();
@@ -132,10 +126,7 @@ int run_campaign(const CampaignOptions& o) {
                  o.shard.n > 1 ? " of this shard" : "", todo.size());
   }
 
-  struct sigaction sa {};
-  sa.sa_handler = on_campaign_signal;
-  ::sigaction(SIGINT, &sa, nullptr);
-  ::sigaction(SIGTERM, &sa, nullptr);
+  catch_stop_signals();
 
   CampaignHeader header;
   header.command = o.command;
@@ -154,7 +145,7 @@ int run_campaign(const CampaignOptions& o) {
     }
   };
   while (true) {
-    while (!g_stop && next < todo.size() && running.size() < o.jobs) {
+    while (!stop_requested() && next < todo.size() && running.size() < o.jobs) {
       const std::size_t i = todo[next++];
       auto child = start_index(*plan, i, runs_dir);
       if (!child) {
@@ -177,7 +168,7 @@ int run_campaign(const CampaignOptions& o) {
       const IndexEnd e =
           w < 0 ? bench_error(*plan, it->index, expected[it->index], "lost (waitpid failed)")
                 : finish_index(*plan, it->index, runs_dir, status, seconds_since(it->start),
-                               expected[it->index], terminating || g_stop);
+                               expected[it->index], terminating || stop_requested());
       if (e.finished || !e.result.finished_utc.empty()) {
         results[it->index] = e.result;
       } else {
@@ -188,7 +179,7 @@ int run_campaign(const CampaignOptions& o) {
       reaped = true;
     }
     if (reaped) continue;
-    if (g_stop && !terminating) {
+    if (stop_requested() && !terminating) {
       terminating = true;
       kill_at = Clock::now() + kTerminateGrace;
       if (!o.quiet) {
@@ -206,7 +197,7 @@ int run_campaign(const CampaignOptions& o) {
   }
   live.clear();
 
-  header.interrupted = g_stop.load();
+  header.interrupted = stop_requested();
   header.wall_time_s = seconds_since(campaign_start);
   const int code = write_campaign_outputs(out, *plan, results, header).value_or(kExitBench);
   std::size_t finished = 0, mine_finished = 0;

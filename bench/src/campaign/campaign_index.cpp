@@ -5,7 +5,6 @@
 #include <signal.h>
 #include <sys/wait.h>
 
-#include <atomic>
 #include <cerrno>
 #include <chrono>
 #include <cstdio>
@@ -25,11 +24,6 @@ namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 using namespace detail;
-
-std::atomic<bool> g_stop{false};
-extern "C" void on_index_signal(int) { g_stop = true; }
-
-constexpr auto kPollPeriod = std::chrono::milliseconds(10);
 
 std::string plan_text(const CampaignPlan& plan) {
   return reports::dump_json(plan_json(plan), 2) + "\n";
@@ -147,10 +141,7 @@ int run_campaign_index(const RunIndexOptions& o) {
     return kExitPass;
   }
 
-  struct sigaction sa {};
-  sa.sa_handler = on_index_signal;
-  ::sigaction(SIGINT, &sa, nullptr);
-  ::sigaction(SIGTERM, &sa, nullptr);
+  catch_stop_signals();
   auto child = start_index(*plan, i, runs);
   if (!child) {
     std::fprintf(stderr, "navbench: campaign run-index: index %zu: %s\n", i,
@@ -167,7 +158,7 @@ int run_campaign_index(const RunIndexOptions& o) {
       std::fprintf(stderr, "navbench: campaign run-index: index %zu: lost its run\n", i);
       return kExitBench;
     }
-    if (g_stop && !stopping) {
+    if (stop_requested() && !stopping) {
       stopping = true;
       ::kill(child->pid, SIGTERM);
       kill_at = Clock::now() + kTerminateGrace;

@@ -41,7 +41,7 @@ std::string markdown_document(const CampaignHeader& h, const CampaignPlan& plan,
   std::string doc = "# navbench campaign\n\n";
   doc += "Command: `" + command_line(h.command) + "`\n\n";
   doc += "Seeds " + std::to_string(plan.first_seed) + "\u2013" + std::to_string(last) + " (" +
-         std::to_string(plan.seeds) + " per scenario), " + mode_name(plan.mode) + ", " +
+         std::to_string(plan.seeds) + " per scenario), " + time_mode_name(plan.mode) + ", " +
          std::to_string(plan.size()) + " runs of " + std::to_string(plan.scenarios.size()) +
          (plan.scenarios.size() == 1 ? " scenario" : " scenarios") + ".\n\n";
   if (finished < plan.size()) {
@@ -93,7 +93,7 @@ std::optional<int> write_campaign_outputs(const fs::path& dir, const CampaignPla
   j["seeds"] = {{"first", plan.first_seed},
                 {"last", plan.first_seed + plan.seeds - 1},
                 {"count", plan.seeds}};
-  j["mode"] = mode_name(plan.mode);
+  j["mode"] = time_mode_name(plan.mode);
   j["jobs"] = h.jobs ? json(*h.jobs) : json(nullptr);
   j["started_utc"] = h.started_utc;
   j["navbench_version"] = navbench_version();

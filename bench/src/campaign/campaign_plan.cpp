@@ -23,8 +23,6 @@ namespace fs = std::filesystem;
 /// The format plan.json declares; a plan of another format is refused.
 constexpr const char* kPlanFormat = "navbench-campaign-plan/1";
 
-const char* mode_name(TimeMode m) { return m == TimeMode::kLockstep ? "lockstep" : "realtime"; }
-
 /// A decimal index (no sign, no spaces, no leading '+'); nullopt when text is not one.
 std::optional<std::uint64_t> parse_index(const std::string& text) {
   if (text.empty() || text.size() > 19 || text.find_first_not_of("0123456789") != std::string::npos) {
@@ -36,6 +34,10 @@ std::optional<std::uint64_t> parse_index(const std::string& text) {
 using detail::json_at;
 
 }  // namespace
+
+const char* time_mode_name(TimeMode m) {
+  return m == TimeMode::kLockstep ? "lockstep" : "realtime";
+}
 
 std::string CampaignPlan::run_name(std::size_t i) const {
   return scenarios[scenario_of(i)].name + "-s" + std::to_string(seed_of(i));
@@ -90,7 +92,7 @@ Result<CampaignPlan> make_plan(const std::vector<std::string>& scenario_files, s
 nlohmann::ordered_json plan_json(const CampaignPlan& plan) {
   nlohmann::ordered_json j;
   j["format"] = kPlanFormat;
-  j["mode"] = mode_name(plan.mode);
+  j["mode"] = time_mode_name(plan.mode);
   j["seeds"] = {{"first", plan.first_seed},
                 {"last", plan.first_seed + plan.seeds - 1},
                 {"count", plan.seeds}};

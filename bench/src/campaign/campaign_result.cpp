@@ -94,7 +94,7 @@ RunInputs current_inputs(const CampaignPlan& plan, std::size_t i,
   RunInputs in;
   in.scenario_sha256 = scenario_sha256;
   in.seed = plan.seed_of(i);
-  in.mode = plan.mode == TimeMode::kLockstep ? "lockstep" : "realtime";
+  in.mode = time_mode_name(plan.mode);
   in.dut_sha256 = dut_sha256;
   in.navbench_version = navbench_version();
   return in;

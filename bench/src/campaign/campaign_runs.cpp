@@ -5,6 +5,7 @@
 #include <signal.h>
 #include <sys/wait.h>
 
+#include <atomic>
 #include <cstring>
 #include <ctime>
 #include <fstream>
@@ -21,6 +22,9 @@ namespace nav::bench::detail {
 namespace {
 
 namespace fs = std::filesystem;
+
+std::atomic<bool> g_stop{false};
+extern "C" void on_campaign_stop_signal(int) { g_stop = true; }
 
 fs::path pending_of(const fs::path& runs, const std::string& name) {
   return runs / ("." + name + ".pending");
@@ -55,7 +59,14 @@ std::vector<std::string> dut_sha256_of(const nlohmann::json& summary) {
 
 }  // namespace
 
-const char* mode_name(TimeMode m) { return m == TimeMode::kLockstep ? "lockstep" : "realtime"; }
+void catch_stop_signals() {
+  struct sigaction sa {};
+  sa.sa_handler = on_campaign_stop_signal;
+  ::sigaction(SIGINT, &sa, nullptr);
+  ::sigaction(SIGTERM, &sa, nullptr);
+}
+
+bool stop_requested() { return g_stop.load(); }
 
 std::string utc_now() {
   const std::time_t now = std::time(nullptr);
@@ -111,7 +122,7 @@ Result<IndexChild> start_index(const CampaignPlan& plan, std::size_t i, const fs
   const PlanScenario& sc = plan.scenarios[plan.scenario_of(i)];
   const std::vector<std::string> argv{"navbench", "run", sc.file, "--seed",
                                       std::to_string(plan.seed_of(i)), "--mode",
-                                      mode_name(plan.mode), "-o", pending.string(), "-q"};
+                                      time_mode_name(plan.mode), "-o", pending.string(), "-q"};
   // Its own process group: a terminal's ^C reaches the campaign only, which forwards SIGTERM.
   auto pid = spawn_logged("/proc/self/exe", argv, log_of(runs, name).string(), LogMode::kTruncate);
   if (!pid) return tl::unexpected(pid.error());

@@ -69,8 +69,13 @@ IndexEnd finish_index(const CampaignPlan& plan, std::size_t i, const std::filesy
 /// The one-line progress of an index that ended: [k/total] <scenario> seed <s>: PASS ...
 std::string progress_line(std::size_t k, std::size_t total, const IndexEnd& e);
 
-/// "lockstep" or "realtime".
-const char* mode_name(TimeMode m);
+/// SIGINT and SIGTERM from now on set the flag stop_requested() reads: the waits for the
+/// children then stop them (SIGTERM, SIGKILL after kTerminateGrace).
+void catch_stop_signals();
+bool stop_requested();
+
+/// How often a wait for children looks at them.
+inline constexpr auto kPollPeriod = std::chrono::milliseconds(10);
 
 /// UTC now as 2026-12-02T21:10:00Z.
 std::string utc_now();

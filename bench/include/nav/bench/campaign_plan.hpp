@@ -47,6 +47,9 @@ struct CampaignPlan {
   std::string run_name(std::size_t i) const;
 };
 
+/// "lockstep" or "realtime", as plan.json, result.json and `navbench run --mode` spell them.
+const char* time_mode_name(TimeMode m);
+
 /// The most runs a plan may have (more is surely a typo).
 inline constexpr std::uint64_t kMaxPlanRuns = 1'000'000;
 
