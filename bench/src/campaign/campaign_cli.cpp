@@ -119,13 +119,41 @@ CampaignCli::CampaignCli(CLI::App& app) : p_(std::make_unique<Parts>()) {
   p.plan->add_flag("--slurm", p.plan_options.slurm,
                    "Also write DIR/slurm/: sbatch job arrays of run-index tasks and a merge job "
                    "after them (DIR/slurm/submit.sh submits them)");
-  p.plan->add_option("--slurm-limit", p.plan_options.slurm_limit,
-                     "Tasks of one array running at a time (the array's %M; default 16)")
+  p.plan->add_option("--limit,--slurm-limit", p.plan_options.slurm_limit,
+                     "Tasks running at a time: a Slurm array's %M, a Kubernetes Job's "
+                     "parallelism (default 16)")
       ->check(CLI::Range(std::size_t{1}, std::size_t{100000}));
   p.plan->add_option("--max-array-size", p.plan_options.max_array_size,
                      "The cluster's MaxArraySize (default 1001, Slurm's): larger plans get "
                      "several arrays")
       ->check(CLI::Range(std::size_t{1}, std::size_t{4000001}));
+  auto* k8s = p.plan->add_flag(
+      "--kubernetes", p.plan_options.kubernetes,
+      "Also write DIR/kubernetes/: Indexed Jobs of run-index tasks and a merge Job "
+      "(DIR/kubernetes/submit.sh applies them with kubectl)");
+  p.plan->add_option("--image", p.plan_options.image,
+                     "--kubernetes: the container image, with navbench and the DUT in it")
+      ->needs(k8s)
+      ->check(cli::kNotEmpty);
+  p.plan->add_option("--volume-claim", p.plan_options.volume_claim,
+                     "--kubernetes: the PersistentVolumeClaim that holds DIR (ReadWriteMany)")
+      ->needs(k8s)
+      ->check(cli::kNotEmpty);
+  p.plan->add_option("--mount-path", p.plan_options.mount_path,
+                     "--kubernetes: where the pods mount the claim, DIR or a folder above it "
+                     "(default: DIR's parent)")
+      ->needs(k8s)
+      ->check(cli::kNotEmpty);
+  p.plan->add_option("--image-navbench", p.plan_options.image_navbench,
+                     "--kubernetes: navbench as the image runs it (default: navbench, on its "
+                     "PATH)")
+      ->needs(k8s)
+      ->check(cli::kNotEmpty);
+  p.plan->add_option("--max-completions", p.plan_options.max_completions,
+                     "--kubernetes: completions of one Indexed Job (default 100000, "
+                     "Kubernetes' most): larger plans get several Jobs")
+      ->needs(k8s)
+      ->check(CLI::Range(std::size_t{1}, std::size_t{100000}));
   p.plan->footer(
       "Writes DIR/plan.json and DIR/runs/, and says how many indices the plan has. Run each\n"
       "with `navbench campaign run-index DIR/plan.json I` (a shell loop, GNU parallel, a Slurm\n"
@@ -136,6 +164,11 @@ CampaignCli::CampaignCli(CLI::App& app) : p_(std::make_unique<Parts>()) {
       "merge.sbatch (navbench campaign merge DIR -o DIR/campaign) and submit.sh [--wait]\n"
       "[SBATCH OPTION...], which submits the arrays and the merge job with\n"
       "--dependency=afterok on them; the jobs run this navbench by its absolute path.\n\n"
+      "--kubernetes: DIR/kubernetes/job-<k>.yaml (Indexed Jobs: completion c runs index c +\n"
+      "the Job's offset, read from JOB_COMPLETION_INDEX), merge-job.yaml and submit.sh\n"
+      "[KUBECTL OPTION...], which applies the Jobs, waits for them, then applies the merge Job\n"
+      "and exits with its status. The pods mount --volume-claim at --mount-path, so DIR must\n"
+      "be on that volume at the same path; the scenario files too, or in the image.\n\n"
       "Exit codes: 0 written; 2 usage or scenario error, or DIR exists; 3 it cannot be written.");
 
   p.run_index = p.campaign->add_subcommand(

@@ -50,6 +50,33 @@ Result<bool> ensure_plan_in(const fs::path& out, const CampaignPlan& plan) {
   return true;
 }
 
+/// Writes an engine's files into dir (the scripts executable); false after saying why.
+bool write_engine_files(const fs::path& dir,
+                        const std::vector<std::pair<std::string, std::string>>& files) {
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  for (const auto& [name, text] : files) {
+    const fs::path path = dir / name;
+    auto w = reports::write_file_atomically(path.string(), text);
+    if (w && path.extension() == ".sh") {
+      fs::permissions(path, fs::perms::owner_exec | fs::perms::group_exec | fs::perms::others_exec,
+                      fs::perm_options::add, ec);
+    }
+    if (!w || ec) {
+      std::fprintf(stderr, "navbench: campaign plan: %s\n",
+                   !w ? w.error().detail.c_str() : (path.string() + ": " + ec.message()).c_str());
+      return false;
+    }
+  }
+  return true;
+}
+
+/// Whether path lies in folder (both absolute and normal).
+bool under(const fs::path& path, const fs::path& folder) {
+  const fs::path rel = path.lexically_relative(folder);
+  return !rel.empty() && *rel.begin() != "..";
+}
+
 }  // namespace
 
 int write_campaign_plan(const PlanOptions& o) {
@@ -60,6 +87,24 @@ int write_campaign_plan(const PlanOptions& o) {
   }
   const fs::path out = o.out_dir;
   std::error_code ec;
+  if (o.kubernetes) {
+    const fs::path dir = fs::absolute(out, ec).lexically_normal();
+    if (o.image.empty() || o.volume_claim.empty()) {
+      std::fprintf(stderr,
+                   "navbench: campaign plan: --kubernetes needs --image (with navbench and the "
+                   "DUT) and --volume-claim (the PersistentVolumeClaim that holds %s)\n",
+                   dir.c_str());
+      return kExitUsage;
+    }
+    if (!o.mount_path.empty() &&
+        (!fs::path(o.mount_path).is_absolute() || !under(dir, fs::path(o.mount_path).lexically_normal()))) {
+      std::fprintf(stderr,
+                   "navbench: campaign plan: --mount-path %s must be an absolute folder that "
+                   "holds %s (the pods write their results there)\n",
+                   o.mount_path.c_str(), dir.c_str());
+      return kExitUsage;
+    }
+  }
   if (fs::exists(fs::symlink_status(out, ec))) {
     std::fprintf(stderr, "navbench: campaign plan: %s exists already; choose another --out\n",
                  out.c_str());
@@ -69,32 +114,45 @@ int write_campaign_plan(const PlanOptions& o) {
     std::fprintf(stderr, "navbench: campaign plan: %s\n", made.error().detail.c_str());
     return made.error().code == ErrorCode::kIo ? kExitBench : kExitUsage;
   }
+  const fs::path dir = fs::absolute(out, ec).lexically_normal();
   if (o.slurm) {
-    const fs::path dir = fs::absolute(out, ec).lexically_normal();
     SlurmOptions so;
     so.plan_dir = dir.string();
     so.navbench = fs::read_symlink("/proc/self/exe", ec).string();
     so.job_name = "navbench-" + dir.filename().string();
     so.limit = o.slurm_limit;
     so.max_array_size = o.max_array_size;
-    fs::create_directories(dir / "slurm", ec);
-    for (const auto& [name, text] : slurm_files(*plan, so)) {
-      const fs::path path = dir / "slurm" / name;
-      auto w = reports::write_file_atomically(path.string(), text);
-      if (w && name.size() > 3 && name.substr(name.size() - 3) == ".sh") {
-        fs::permissions(path, fs::perms::owner_exec | fs::perms::group_exec | fs::perms::others_exec,
-                        fs::perm_options::add, ec);
-      }
-      if (!w || ec) {
-        std::fprintf(stderr, "navbench: campaign plan: %s\n",
-                     !w ? w.error().detail.c_str() : (path.string() + ": " + ec.message()).c_str());
-        return kExitBench;
+    if (!write_engine_files(dir / "slurm", slurm_files(*plan, so))) return kExitBench;
+  }
+  if (o.kubernetes) {
+    KubernetesOptions ko;
+    ko.plan_dir = dir.string();
+    ko.image = o.image;
+    ko.navbench = o.image_navbench;
+    ko.volume_claim = o.volume_claim;
+    ko.mount_path = o.mount_path.empty() ? dir.parent_path().string()
+                                         : fs::path(o.mount_path).lexically_normal().string();
+    ko.job_name = kubernetes_name("navbench-" + dir.filename().string());
+    ko.parallelism = o.slurm_limit;
+    ko.max_completions = o.max_completions;
+    for (const auto& s : plan->scenarios) {
+      if (!under(s.file, ko.mount_path) && !o.quiet) {
+        std::fprintf(stderr,
+                     "navbench: campaign plan: note: %s is not under the volume's mount path %s; "
+                     "the image must hold it at that path\n",
+                     s.file.c_str(), ko.mount_path.c_str());
       }
     }
+    if (!write_engine_files(dir / "kubernetes", kubernetes_files(*plan, ko))) return kExitBench;
   }
   if (!o.quiet) {
     if (o.slurm) {
       std::fprintf(stderr, "navbench: campaign plan: Slurm: %s/slurm/submit.sh submits it\n",
+                   out.c_str());
+    }
+    if (o.kubernetes) {
+      std::fprintf(stderr,
+                   "navbench: campaign plan: Kubernetes: %s/kubernetes/submit.sh applies it\n",
                    out.c_str());
     }
     std::fprintf(stderr,

@@ -14,7 +14,6 @@
 #include <vector>
 
 #include "campaign/live_progress.hpp"
-#include "nav/bench/campaign_engines.hpp"
 #include "nav/bench/campaign_result.hpp"
 
 namespace nav::bench {
@@ -212,39 +211,6 @@ TEST(CampaignResult, SameMeansSameInputsAndOutcomeWhereverItRan) {
   other_verdict.exit_code = 0;
   other_verdict.verdict = "PASS";
   EXPECT_FALSE(same_result(r, other_verdict));
-}
-
-TEST(SlurmFiles, ArraysOfAtMostMaxArraySizeWithOffsetsThenAMergeAfterAllOfThem) {
-  CampaignPlan plan = two_by_three();  // 6 runs
-  SlurmOptions o;
-  o.plan_dir = "/shared/camp";
-  o.navbench = "/opt/navbench/bin/navbench";
-  o.job_name = "navbench-camp";
-  o.limit = 3;
-  o.max_array_size = 4;
-  const auto files = slurm_files(plan, o);
-  ASSERT_EQ(files.size(), 4u);
-  EXPECT_EQ(files[0].first, "array-0.sbatch");
-  EXPECT_EQ(files[1].first, "array-1.sbatch");
-  EXPECT_EQ(files[2].first, "merge.sbatch");
-  EXPECT_EQ(files[3].first, "submit.sh");
-  const std::string& a0 = files[0].second;
-  const std::string& a1 = files[1].second;
-  EXPECT_NE(a0.find("#SBATCH --array=0-3%3\n"), std::string::npos) << a0;
-  EXPECT_NE(a0.find("run-index /shared/camp/plan.json --index-offset 0 -q\n"), std::string::npos);
-  EXPECT_NE(a1.find("#SBATCH --array=0-1%3\n"), std::string::npos) << a1;  // indices 4, 5
-  EXPECT_NE(a1.find("--index-offset 4 -q\n"), std::string::npos) << a1;
-  EXPECT_NE(files[2].second.find("exec /opt/navbench/bin/navbench campaign merge /shared/camp -o "
-                                 "/shared/camp/campaign\n"),
-            std::string::npos);
-  EXPECT_NE(files[2].second.find("--kill-on-invalid-dep=yes"), std::string::npos);
-  const std::string& submit = files[3].second;
-  EXPECT_NE(submit.find("sbatch --parsable \"$@\" array-0.sbatch"), std::string::npos);
-  EXPECT_NE(submit.find("sbatch --parsable \"$@\" array-1.sbatch"), std::string::npos);
-  EXPECT_NE(submit.find("--dependency=afterok$ids \"$@\" merge.sbatch"), std::string::npos);
-  // Slurm's default MaxArraySize: one array up to 1001 runs.
-  o.max_array_size = kSlurmMaxArraySize;
-  EXPECT_EQ(slurm_files(plan, o).size(), 3u);
 }
 
 TEST(LiveProgress, DoneRunningFailedElapsedAndTheTimeLeftAtTheRateSoFar) {

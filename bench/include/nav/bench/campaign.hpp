@@ -60,6 +60,12 @@ struct PlanOptions {
   bool slurm = false;                  ///< also DIR/slurm/ (campaign_engines.hpp)
   std::size_t slurm_limit = 16;        ///< tasks of an array at a time (%M)
   std::size_t max_array_size = 1001;   ///< the cluster's MaxArraySize
+  bool kubernetes = false;             ///< also DIR/kubernetes/ (campaign_engines.hpp)
+  std::string image;                   ///< the pods' container image
+  std::string volume_claim;            ///< the PersistentVolumeClaim holding DIR
+  std::string mount_path;              ///< where it is mounted; empty: DIR's parent
+  std::string image_navbench = "navbench";  ///< navbench as the image runs it
+  std::size_t max_completions = 100000;     ///< completions of one Indexed Job
 };
 int write_campaign_plan(const PlanOptions& options);
 
