@@ -156,9 +156,16 @@ std::string banner(const CampaignFolder& c, std::size_t runs, std::size_t passed
   else if (code == 3 || code == 4 || code == 2) cls = "dut", verdict = "RUNS IN ERROR";
   else if (code != 0) cls = "interrupted", verdict = "INCOMPLETE";
   std::string h = "<header class=\"banner " + cls + "\" id=\"verdict\"><div class=\"verdict\">" +
-                  verdict + "</div><div class=\"what\">campaign &middot; " + std::to_string(passed) +
-                  " of " + std::to_string(runs) + " runs passed &middot; exit code " +
-                  std::to_string(code) + "</div>";
+                  verdict + "</div><div class=\"what\">campaign &middot; ";
+  if (const auto& checks = get_array(c.campaign, "campaign_checks"); !checks.empty()) {
+    const auto shown = std::count_if(checks.begin(), checks.end(), [](const json& v) {
+      return detail::get_bool(v, "passed").value_or(false);
+    });
+    h += std::to_string(shown) + " of " + std::to_string(checks.size()) +
+         " campaign checks shown &middot; ";
+  }
+  h += std::to_string(passed) + " of " + std::to_string(runs) + " runs passed &middot; exit code " +
+       std::to_string(code) + "</div>";
   if (!detail::get_bool(c.campaign, "complete").value_or(true)) {
     h += "<ul class=\"why\"><li>interrupted: the table is over the runs that finished</li></ul>";
   }
@@ -215,6 +222,34 @@ std::string comparison(const CampaignFolder& c) {
   return h + "</table><p class=\"note\">Endpoint error: the value of each scenario's "
              "endpoint_error check, over the runs that reached the end (exit 0 or 1); std is "
              "the sample standard deviation.</p></section>\n";
+}
+
+/// The campaign's own checks: statements over each scenario's runs, with what the runs show.
+std::string campaign_checks(const CampaignFolder& c) {
+  const auto& checks = get_array(c.campaign, "campaign_checks");
+  if (checks.empty()) return {};
+  std::string h = "<section id=\"campaign-checks\"><h2>Campaign checks</h2><table>\n" +
+                  detail::header_row({"verdict", "scenario", "requirement", "statement",
+                                      "what the runs show"});
+  for (const auto& v : checks) {
+    const bool passed = detail::get_bool(v, "passed").value_or(false);
+    const json& check = member(v, "check");
+    std::string req = html_escape(get_string(check, "req", ""));
+    if (const auto title = get_string(check, "title")) req += (req.empty() ? "" : ": ") + html_escape(*title);
+    h += "<tr class=\"" + std::string(passed ? "pass" : "fail") + "\">";
+    h += "<td class=\"tag\">" + std::string(passed ? "PASS" : "FAIL") + "</td>";
+    h += "<td>" + html_escape(get_string(v, "scenario", "?")) + "</td>";
+    h += "<td>" + (req.empty() ? std::string("\u2014") : req) + "</td>";
+    h += "<td>" + html_escape(get_string(v, "statement", "")) + "</td>";
+    h += "<td>" + html_escape(get_string(v, "finding", "")) + "</td></tr>\n";
+  }
+  return h + "</table><p class=\"note\">Decided without assuming a distribution: a quantile "
+             "statement by order statistics (it holds with confidence P(Binomial(n, q) \u2264 "
+             "n \u2212 j \u2212 1) when j of n runs are above its limit), a pass rate by its "
+             "one-sided Clopper\u2013Pearson bound. A run whose DUT measured nothing, crashed "
+             "or hung counts against them; a run in bench error is left out. Where campaign "
+             "checks are given, they decide the scenario's verdict, not each run's own checks."
+             "</p></section>\n";
 }
 
 std::string runs_table(const CampaignFolder& c) {
@@ -282,9 +317,12 @@ std::string campaign_report_html(const CampaignFolder& c) {
   }
   json specs = json::array();
   std::string body = banner(c, runs, passed);
-  body += "<nav class=\"toc\"><a href=\"#identity\">campaign</a> <a href=\"#comparison\">comparison</a> "
-          "<a href=\"#distributions\">distributions</a> <a href=\"#runs\">runs</a></nav>\n<main>\n";
-  body += identity(c) + comparison(c);
+  const std::string checks = campaign_checks(c);
+  body += "<nav class=\"toc\"><a href=\"#identity\">campaign</a> ";
+  if (!checks.empty()) body += "<a href=\"#campaign-checks\">campaign checks</a> ";
+  body += "<a href=\"#comparison\">comparison</a> <a href=\"#distributions\">distributions</a> "
+          "<a href=\"#runs\">runs</a></nav>\n<main>\n";
+  body += identity(c) + checks + comparison(c);
   body += "<section id=\"distributions\"><h2>Distributions over the seeds</h2>\n";
   std::size_t plot_no = 0;
   for (const auto& [title, group] : groups_of(sc)) {

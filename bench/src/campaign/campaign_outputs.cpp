@@ -8,7 +8,9 @@
 #include <stdexcept>
 
 #include "campaign/campaign_runs.hpp"
+#include "campaign/campaign_verdicts.hpp"
 #include "nav/bench/campaign.hpp"
+#include "nav/bench/runner.hpp"
 #include "nav/common/version.hpp"
 #include "nav/reports/atomic_file.hpp"
 #include "nav/reports/html_report.hpp"
@@ -36,7 +38,8 @@ json labels_json(const Labels& labels) {
 json number_or_null(double v) { return std::isnan(v) ? json(nullptr) : json(v); }
 
 std::string markdown_document(const CampaignHeader& h, const CampaignPlan& plan,
-                              std::size_t finished, const std::string& table) {
+                              std::size_t finished, const std::string& table,
+                              const std::string& checks) {
   const std::uint64_t last = plan.first_seed + plan.seeds - 1;
   std::string doc = "# navbench campaign\n\n";
   doc += "Command: `" + command_line(h.command) + "`\n\n";
@@ -52,7 +55,14 @@ std::string markdown_document(const CampaignHeader& h, const CampaignPlan& plan,
   doc += "Endpoint error: the value of the scenario's endpoint_error check (3-D position error "
          "of the last solution), over the runs that reached the end of the scenario (exit 0 or "
          "1); std is the sample standard deviation (n \u2212 1); \u2014 where undefined.\n\n";
-  return doc + table;
+  doc += table;
+  if (!checks.empty()) {
+    doc += "\n## Campaign checks\n\nStatements over the runs of a scenario, decided without "
+           "assuming a distribution (order statistics; Clopper–Pearson for pass rates). A "
+           "run whose DUT measured nothing, crashed or hung counts against them; a run in bench "
+           "error is left out.\n\n" + checks;
+  }
+  return doc;
 }
 
 }  // namespace
@@ -76,14 +86,27 @@ std::optional<int> write_campaign_outputs(const fs::path& dir, const CampaignPla
       r.verdict = res->verdict;
       r.endpoint_error_m = res->endpoint_error_m;
       r.wall_time_s = res->wall_time_s;
-      codes.push_back(res->exit_code);
+      codes.push_back(run_code_under_campaign_checks(res->exit_code,
+                                                     plan.scenarios[plan.scenario_of(i)]));
       ++finished;
     }
   }
   std::vector<std::pair<std::string, Labels>> table_scenarios;
   for (const auto& s : plan.scenarios) table_scenarios.emplace_back(s.name, s.labels);
   const auto rows = comparison_rows(table_scenarios, runs);
+  const auto verdicts = judge_campaign_checks(plan, results);
+  std::string checks_text, checks_md;
+  for (const auto& v : verdicts) {
+    if (!v.passed) codes.push_back(kExitFail);
+    const char* word = v.passed ? "PASS" : "FAIL";
+    checks_text += std::string(word) + "  " + v.scenario + ": " + v.statement + "\n      " +
+                   v.finding + "\n";
+    checks_md += std::string("- **") + word + "** " + v.scenario + " — " + v.statement +
+                 (v.spec.req.empty() ? "" : " (" + v.spec.req + ")") + ": " + v.finding + ".\n";
+  }
   const std::string table = comparison_markdown(rows);
+  const std::string stdout_text =
+      table + (checks_text.empty() ? "" : "\nCampaign checks:\n" + checks_text);
   const int exit_code = campaign_exit_code(codes);
 
   json j;
@@ -146,9 +169,11 @@ std::optional<int> write_campaign_outputs(const fs::path& dir, const CampaignPla
                                  {"min", number_or_null(row.endpoint.min)},
                                  {"max", number_or_null(row.endpoint.max)}}}});
   }
+  j["campaign_checks"] = json::array();
+  for (const auto& v : verdicts) j["campaign_checks"].push_back(verdict_json(v));
   try {
     write_atomically(dir / "comparison.csv", comparison_csv(rows));
-    write_atomically(dir / "comparison.md", markdown_document(h, plan, finished, table));
+    write_atomically(dir / "comparison.md", markdown_document(h, plan, finished, table, checks_md));
     write_atomically(dir / "campaign.json", reports::dump_json(j, 2) + "\n");
     // The campaign report from the files just written, as `navbench report DIR` makes it.
     if (const auto report = reports::write_report(dir.string()); !report) {
@@ -156,10 +181,10 @@ std::optional<int> write_campaign_outputs(const fs::path& dir, const CampaignPla
     }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "navbench: campaign: %s\n", e.what());
-    std::fputs(table.c_str(), stdout);
+    std::fputs(stdout_text.c_str(), stdout);
     return std::nullopt;
   }
-  std::fputs(table.c_str(), stdout);
+  std::fputs(stdout_text.c_str(), stdout);
   std::fflush(stdout);
   return exit_code;
 }

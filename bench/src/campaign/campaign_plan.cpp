@@ -84,10 +84,70 @@ Result<CampaignPlan> make_plan(const std::vector<std::string>& scenario_files, s
         break;
       }
     }
+    s.campaign_checks = sc->campaign_checks;
     plan.scenarios.push_back(std::move(s));
   }
   return plan;
 }
+
+nlohmann::ordered_json campaign_check_json(const CampaignCheckSpec& c) {
+  using json = nlohmann::ordered_json;
+  json j;
+  j["name"] = c.name;
+  j["kind"] = campaign_check_kind_name(c.kind);
+  j["of"] = c.of.empty() ? json(nullptr) : json(c.of);
+  if (c.kind == CampaignCheckSpec::Kind::kQuantile) {
+    j["quantile"] = c.quantile;
+    j["max"] = c.limit;
+    j["unit"] = c.unit;
+  } else {
+    j["min"] = c.min_rate;
+  }
+  j["confidence"] = c.confidence;
+  j["req"] = c.req.empty() ? json(nullptr) : json(c.req);
+  j["title"] = c.title.empty() ? json(nullptr) : json(c.title);
+  return j;
+}
+
+namespace {
+
+/// A campaign check from plan.json; nullopt when it is not one.
+std::optional<CampaignCheckSpec> campaign_check_from_json(const nlohmann::ordered_json& j) {
+  const auto text = [&](const char* key) {
+    const auto& v = json_at(j, key);
+    return v.is_string() ? v.get<std::string>() : std::string();
+  };
+  const auto probability = [&](const char* key) {
+    const auto& v = json_at(j, key);
+    const double p = v.is_number() ? v.get<double>() : 0.0;
+    return p > 0.0 && p < 1.0 ? p : 0.0;
+  };
+  CampaignCheckSpec c;
+  c.name = text("name");
+  c.of = text("of");
+  c.req = text("req");
+  c.title = text("title");
+  c.confidence = probability("confidence");
+  const std::string kind = text("kind");
+  if (kind == "quantile") {
+    c.kind = CampaignCheckSpec::Kind::kQuantile;
+    c.quantile = probability("quantile");
+    c.unit = text("unit");
+    const auto& max = json_at(j, "max");
+    c.limit = max.is_number() ? max.get<double>() : 0.0;
+    if (c.quantile == 0.0 || c.of.empty() || !(c.limit > 0.0)) return std::nullopt;
+  } else if (kind == "pass_rate") {
+    c.kind = CampaignCheckSpec::Kind::kPassRate;
+    c.min_rate = probability("min");
+    if (c.min_rate == 0.0) return std::nullopt;
+  } else {
+    return std::nullopt;
+  }
+  if (c.name.empty() || c.confidence == 0.0) return std::nullopt;
+  return c;
+}
+
+}  // namespace
 
 nlohmann::ordered_json plan_json(const CampaignPlan& plan) {
   nlohmann::ordered_json j;
@@ -109,6 +169,8 @@ nlohmann::ordered_json plan_json(const CampaignPlan& plan) {
                               {"endpoint_check", s.endpoint_check.empty()
                                                      ? nlohmann::ordered_json(nullptr)
                                                      : nlohmann::ordered_json(s.endpoint_check)}});
+    auto& checks = j["scenarios"].back()["campaign_checks"] = nlohmann::ordered_json::array();
+    for (const auto& c : s.campaign_checks) checks.push_back(campaign_check_json(c));
   }
   return j;
 }
@@ -148,6 +210,11 @@ Result<CampaignPlan> plan_from_json(const nlohmann::ordered_json& j, const std::
       }
     }
     if (const auto& e = json_at(s, "endpoint_check"); e.is_string()) p.endpoint_check = e.get<std::string>();
+    for (const auto& c : json_at(s, "campaign_checks")) {
+      auto check = campaign_check_from_json(c);
+      if (!check) return bad("scenario \"" + p.name + "\" has a campaign check that is not one");
+      p.campaign_checks.push_back(std::move(*check));
+    }
     plan.scenarios.push_back(std::move(p));
   }
   if (plan.seeds == 0 || plan.seeds - 1 > std::numeric_limits<std::uint64_t>::max() - plan.first_seed ||

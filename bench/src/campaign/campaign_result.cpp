@@ -10,7 +10,7 @@
 namespace nav::bench {
 namespace {
 
-constexpr const char* kResultFormat = "navbench-campaign-result/1";
+constexpr const char* kResultFormat = "navbench-campaign-result/2";
 
 using detail::json_at;
 
@@ -31,6 +31,12 @@ nlohmann::ordered_json result_json(const CampaignResult& r) {
   j["verdict"] = r.verdict;
   j["endpoint_error_m"] =
       r.endpoint_error_m ? nlohmann::ordered_json(*r.endpoint_error_m) : nullptr;
+  j["checks"] = nlohmann::ordered_json::array();
+  for (const auto& c : r.checks) {
+    j["checks"].push_back({{"name", c.name},
+                           {"passed", c.passed},
+                           {"value", c.value ? nlohmann::ordered_json(*c.value) : nullptr}});
+  }
   j["wall_time_s"] = r.wall_time_s;
   j["host"] = r.host;
   j["finished_utc"] = r.finished_utc;
@@ -67,6 +73,14 @@ Result<CampaignResult> result_from_json(const nlohmann::json& j, const std::stri
   r.exit_code = json_at(j, "exit_code").get<int>();
   r.verdict = json_at(j, "verdict").get<std::string>();
   if (const auto& e = json_at(j, "endpoint_error_m"); e.is_number()) r.endpoint_error_m = e.get<double>();
+  for (const auto& c : json_at(j, "checks")) {
+    if (!json_at(c, "name").is_string() || !json_at(c, "passed").is_boolean()) {
+      return bad("a check needs \"name\" and \"passed\"");
+    }
+    RunCheck rc{json_at(c, "name").get<std::string>(), json_at(c, "passed").get<bool>(), {}};
+    if (const auto& v = json_at(c, "value"); v.is_number()) rc.value = v.get<double>();
+    r.checks.push_back(std::move(rc));
+  }
   if (const auto& w = json_at(j, "wall_time_s"); w.is_number()) r.wall_time_s = w.get<double>();
   if (const auto& h = json_at(j, "host"); h.is_string()) r.host = h.get<std::string>();
   if (const auto& f = json_at(j, "finished_utc"); f.is_string()) r.finished_utc = f.get<std::string>();
@@ -85,7 +99,7 @@ Result<CampaignResult> read_result(const std::filesystem::path& folder) {
 bool same_result(const CampaignResult& a, const CampaignResult& b) {
   return a.index == b.index && a.run_name == b.run_name && a.inputs == b.inputs &&
          a.exit_code == b.exit_code && a.verdict == b.verdict &&
-         a.endpoint_error_m == b.endpoint_error_m;
+         a.endpoint_error_m == b.endpoint_error_m && a.checks == b.checks;
 }
 
 RunInputs current_inputs(const CampaignPlan& plan, std::size_t i,

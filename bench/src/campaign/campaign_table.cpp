@@ -151,24 +151,35 @@ std::string comparison_markdown(const std::vector<ComparisonRow>& rows) {
   return o;
 }
 
-std::optional<double> endpoint_error_from_summary(const nlohmann::json& summary,
-                                                  const std::string& check_name) {
+std::vector<RunCheck> run_checks_from_summary(const nlohmann::json& summary) {
+  std::vector<RunCheck> out;
   const auto checks = summary.find("checks");
-  if (checks == summary.end() || !checks->is_array()) return std::nullopt;
+  if (checks == summary.end() || !checks->is_array()) return out;
   for (const auto& c : *checks) {
-    if (!c.is_object() || c.value("name", std::string()) != check_name) continue;
+    if (!c.is_object() || !c.value("judged", false)) continue;
+    const auto name = c.find("name");
+    if (name == c.end() || !name->is_string()) continue;
+    RunCheck r{name->get<std::string>(), c.value("passed", false), {}};
     const auto value = c.find("value");
     const auto limit = c.find("limit");
-    if (!c.value("judged", false) || value == c.end() || !value->is_number()) return std::nullopt;
-    // judge.cpp: a measured endpoint error passes exactly when it is within the limit; a check
-    // with no solution to judge fails with value 0. So "failed, yet within the limit" means
-    // nothing was measured.
-    const bool passed = c.value("passed", false);
-    const double v = value->get<double>();
-    if (!passed && limit != c.end() && limit->is_number() && v <= limit->get<double>()) {
-      return std::nullopt;
+    if (value != c.end() && value->is_number()) {
+      // judge.cpp: a measured error passes exactly when it is within the limit; a check with
+      // no solution to judge fails with value 0. So "failed, yet within the limit" means
+      // nothing was measured.
+      const double v = value->get<double>();
+      if (r.passed || limit == c.end() || !limit->is_number() || v > limit->get<double>()) {
+        r.value = v;
+      }
     }
-    return v;
+    out.push_back(std::move(r));
+  }
+  return out;
+}
+
+std::optional<double> endpoint_error_from_summary(const nlohmann::json& summary,
+                                                  const std::string& check_name) {
+  for (const auto& c : run_checks_from_summary(summary)) {
+    if (c.name == check_name) return c.value;
   }
   return std::nullopt;
 }

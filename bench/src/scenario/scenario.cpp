@@ -343,7 +343,7 @@ std::string folder_of(const std::string& file);
 Scenario read_scenario(const Field& root, const std::string& file) {
   const MapReader top(root, {"name", "description", "labels", "seed", "duration", "mode",
                              "datum", "truth_rate", "bench", "vehicle", "dut", "checks",
-                             "peers", "acoustic"});
+                             "campaign", "peers", "acoustic"});
   Scenario s;
   s.file = file;
   s.dir = folder_of(file);
@@ -364,6 +364,7 @@ Scenario read_scenario(const Field& root, const std::string& file) {
   read_vehicle(top.required("vehicle"), s);
   read_dut(top.required("dut"), s);
   if (auto v = top.optional("checks")) read_checks(*v, s);
+  if (auto v = top.optional("campaign")) detail::read_campaign(*v, s);
   if (auto v = top.optional("peers")) read_peers(*v, s);
   if (auto v = top.optional("acoustic")) read_acoustic(*v, s);
   check_size(duration, s);

@@ -19,6 +19,9 @@ void read_vehicle(const Field& f, Scenario& s);
 /// The `checks` list into s.checks (the devices and the DUT must be read).
 void read_checks(const Field& f, Scenario& s);
 
+/// The `campaign` section into s.campaign_checks (the checks must be read).
+void read_campaign(const Field& f, Scenario& s);
+
 /// Refuses, at `duration`, a scenario longer than the bench runs (24 h) or one whose messages
 /// and truth samples (rates x duration, every vehicle) are more than a run holds in memory.
 void check_size(const Field& duration, const Scenario& s);

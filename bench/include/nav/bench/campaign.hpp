@@ -29,6 +29,7 @@
 #include <nlohmann/json.hpp>
 
 #include "nav/bench/campaign_plan.hpp"
+#include "nav/bench/campaign_result.hpp"
 #include "nav/bench/scenario.hpp"
 
 namespace nav::bench {
@@ -155,6 +156,9 @@ std::string comparison_markdown(const std::vector<ComparisonRow>& rows);
 /// judged and measured something (a check with no solution to judge failed with value 0).
 std::optional<double> endpoint_error_from_summary(const nlohmann::json& summary,
                                                   const std::string& check_name);
+
+/// The judged checks of a run's summary.json, each with its value when it measured one.
+std::vector<RunCheck> run_checks_from_summary(const nlohmann::json& summary);
 
 /// The campaign's exit code from its runs' exit codes: worst wins, 4 > 3 > 1 > 0; a run that
 /// ended with 2 (or anything else) counts as a bench error (3).

@@ -29,7 +29,11 @@ struct PlanScenario {
   std::string name;
   Labels labels;
   std::string endpoint_check;  ///< name of its first endpoint_error check; empty: none
+  std::vector<CampaignCheckSpec> campaign_checks;  ///< its `campaign.checks`
 };
+
+/// A campaign check as plan.json and campaign.json write it.
+nlohmann::ordered_json campaign_check_json(const CampaignCheckSpec& c);
 
 struct CampaignPlan {
   TimeMode mode = TimeMode::kLockstep;

@@ -34,6 +34,14 @@ struct RunInputs {
   bool operator==(const RunInputs&) const = default;
 };
 
+/// A judged check of a finished run, as its summary.json tells it.
+struct RunCheck {
+  std::string name;
+  bool passed = false;
+  std::optional<double> value;  ///< what it measured, in its summary's unit; none: nothing
+  bool operator==(const RunCheck&) const = default;
+};
+
 /// A finished index.
 struct CampaignResult {
   std::size_t index = 0;
@@ -43,6 +51,7 @@ struct CampaignResult {
   int exit_code = -1;     ///< navbench run's exit code
   std::string verdict;    ///< from its summary.json, or what went wrong
   std::optional<double> endpoint_error_m;  ///< the plan's endpoint check's value [m]
+  std::vector<RunCheck> checks;  ///< its judged checks (campaign checks judge them)
   double wall_time_s = 0.0;
   std::string host;       ///< where it ran
   std::string finished_utc;
@@ -58,7 +67,7 @@ Result<CampaignResult> result_from_json(const nlohmann::json& j, const std::stri
 Result<CampaignResult> read_result(const std::filesystem::path& folder);
 
 /// Whether two results of one index tell the same: the same inputs and the same outcome
-/// (exit code, verdict, endpoint error; not where or when they ran).
+/// (exit code, verdict, checks; not where or when they ran).
 bool same_result(const CampaignResult& a, const CampaignResult& b);
 
 /// The inputs index i of the plan has now: the scenario file's SHA-256 as it is now, the

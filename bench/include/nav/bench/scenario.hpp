@@ -119,6 +119,30 @@ struct CheckSpec {
 /// The scenario name of a check kind ("horizontal_error", ...).
 const char* check_kind_name(CheckSpec::Kind k);
 
+/// A statement over the runs of this scenario in a campaign (top-level `campaign: {checks:
+/// [...]}`), decided by `navbench campaign` without assuming a distribution
+/// (campaign_stats.hpp); a single run does not judge it.
+struct CampaignCheckSpec {
+  enum class Kind {
+    kQuantile,  ///< the quantile of a run check's value is <= limit, with confidence
+    kPassRate   ///< the rate of runs that passed (a run check, or every check) is >= min_rate
+  };
+  Kind kind = Kind::kQuantile;
+  std::string name;        ///< display name, unique among the campaign checks
+  std::string of;          ///< the run check judged; empty (pass_rate): the run's verdict
+  double quantile = 0.0;   ///< kQuantile: q in (0, 1)
+  double limit = 0.0;      ///< kQuantile: in the run check's unit (m or deg, as its summary)
+  std::string unit;        ///< kQuantile: "m" or "deg"
+  double min_rate = 0.0;   ///< kPassRate: in (0, 1)
+  double confidence = 0.0; ///< in (0, 1)
+  std::string req{};       ///< requirement id, or empty
+  std::string title{};     ///< the requirement's wording, or empty
+  bool operator==(const CampaignCheckSpec&) const = default;
+};
+
+/// The scenario name of a campaign check kind ("quantile", "pass_rate").
+const char* campaign_check_kind_name(CampaignCheckSpec::Kind k);
+
 /// A further vehicle (top-level `peers:`): its own path, devices and DUT. Its devices are
 /// named here as in its file section; in captures and reports they are "<vehicle_name>.<name>".
 struct PeerSpec {
@@ -163,6 +187,8 @@ struct Scenario {
   std::vector<DeviceSpec> devices;
   DutSpec dut;
   std::vector<CheckSpec> checks;
+  /// Statements over a campaign's runs of this scenario (top-level `campaign.checks`).
+  std::vector<CampaignCheckSpec> campaign_checks;
   /// Further vehicles, each with its own DUT (checks stay on the primary vehicle above).
   std::vector<PeerSpec> peers;
   /// The acoustic channel that joins every acoustic-modem of every vehicle (top-level
