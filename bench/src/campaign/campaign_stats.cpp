@@ -8,6 +8,7 @@
 #include <limits>
 
 #include <boost/math/distributions/binomial.hpp>
+#include <boost/math/distributions/normal.hpp>
 #include <boost/math/special_functions/beta.hpp>
 
 namespace nav::bench {
@@ -98,6 +99,79 @@ PassRateVerdict judge_pass_rate(std::size_t passed, std::size_t n, double min_ra
   v.interval = clopper_pearson(v.passed_runs, n, c);
   v.runs_needed = runs_needed(failed, n, min_rate, c);
   return v;
+}
+
+double signed_rank_cdf(double t, std::size_t n) {
+  // P(T = k): each rank r in 1..n is in T with probability 1/2, independently.
+  const std::size_t max = n * (n + 1) / 2;
+  if (t < 0.0) return 0.0;
+  if (t >= static_cast<double>(max)) return 1.0;
+  std::vector<double> p(max + 1, 0.0);
+  p[0] = 1.0;
+  std::size_t top = 0;
+  for (std::size_t r = 1; r <= n; ++r) {
+    top += r;
+    for (std::size_t k = top; k >= r; --k) p[k] = 0.5 * (p[k] + p[k - r]);
+    for (std::size_t k = std::min(r, top + 1); k-- > 0;) p[k] *= 0.5;
+  }
+  double cdf = 0.0;
+  for (std::size_t k = 0; k <= static_cast<std::size_t>(std::floor(t + 1e-9)); ++k) cdf += p[k];
+  return std::min(cdf, 1.0);
+}
+
+SignedRankTest signed_rank_test(const std::vector<double>& differences) {
+  SignedRankTest t;
+  t.pairs = differences.size();
+  std::vector<double> all = differences;
+  std::sort(all.begin(), all.end());
+  if (all.empty()) {
+    t.median_difference = std::numeric_limits<double>::quiet_NaN();
+  } else {
+    const std::size_t m = all.size() / 2;
+    t.median_difference = all.size() % 2 ? all[m] : 0.5 * (all[m - 1] + all[m]);
+  }
+  std::vector<double> d;
+  for (const double x : differences) {
+    if (x != 0.0 && !std::isnan(x)) d.push_back(x);
+  }
+  t.n = d.size();
+  if (t.n == 0) return t;  // nothing to rank: no evidence either way
+  std::sort(d.begin(), d.end(), [](double a, double b) { return std::abs(a) < std::abs(b); });
+  double tie_term = 0.0;  // sum of (t^3 - t) over groups of tied |d|
+  bool ties = false;
+  for (std::size_t i = 0; i < t.n;) {
+    std::size_t j = i;
+    while (j + 1 < t.n && std::abs(d[j + 1]) == std::abs(d[i])) ++j;
+    const double rank = 0.5 * static_cast<double>(i + j) + 1.0;  // average of ranks i+1..j+1
+    const auto size = static_cast<double>(j - i + 1);
+    if (j > i) {
+      ties = true;
+      tie_term += size * size * size - size;
+    }
+    for (std::size_t k = i; k <= j; ++k) {
+      if (d[k] > 0.0) t.w_plus += rank;
+    }
+    i = j + 1;
+  }
+  const auto n = static_cast<double>(t.n);
+  const double max = n * (n + 1.0) / 2.0;
+  t.exact = !ties && t.n <= 50;
+  if (t.exact) {
+    // W+ and W- = max - W+ have the same null distribution.
+    t.p_greater = signed_rank_cdf(max - t.w_plus, t.n);
+    t.p_less = signed_rank_cdf(t.w_plus, t.n);
+  } else {
+    const double mean = max / 2.0;
+    const double sd = std::sqrt(n * (n + 1.0) * (2.0 * n + 1.0) / 24.0 - tie_term / 48.0);
+    const boost::math::normal_distribution<double> z01;
+    t.p_greater = sd > 0.0 ? boost::math::cdf(boost::math::complement(
+                                 z01, (t.w_plus - mean - 0.5) / sd))
+                           : 1.0;
+    t.p_less = sd > 0.0 ? boost::math::cdf(z01, (t.w_plus - mean + 0.5) / sd) : 1.0;
+  }
+  t.p_greater = std::clamp(t.p_greater, 0.0, 1.0);
+  t.p_less = std::clamp(t.p_less, 0.0, 1.0);
+  return t;
 }
 
 }  // namespace nav::bench

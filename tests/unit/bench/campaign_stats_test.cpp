@@ -2,7 +2,8 @@
 // A campaign's statistics (campaign_stats.hpp) against tabulated values: binomial
 // probabilities counted by hand, Wilks' numbers of runs for one-sided tolerance statements
 // (Wilks 1941; the "59 runs for 95/95" of nuclear safety analyses), and Clopper–Pearson
-// intervals as published (Clopper & Pearson 1934; e.g. 0 of 10: [0, 0.3085]).
+// intervals as published (Clopper & Pearson 1934; e.g. 0 of 10: [0, 0.3085]), and Wilcoxon's
+// signed-rank test against its table of critical values.
 #include "nav/bench/campaign_stats.hpp"
 
 #include <gtest/gtest.h>
@@ -116,6 +117,66 @@ TEST(JudgePassRate, LowerBoundAndConfidenceAgreeWithTheBinomial) {
   const auto none = judge_pass_rate(0, 5, 0.5, 0.9);
   EXPECT_EQ(none.lower_bound, 0.0);
   EXPECT_FALSE(none.passed);
+}
+
+// The one-tailed 5 % critical values of Wilcoxon's T (the smaller rank sum) for n = 5..20,
+// as every table prints them: P(T <= crit) <= 0.05 < P(T <= crit + 1).
+TEST(SignedRank, ExactDistributionMatchesTheTableOfCriticalValues) {
+  const int crit[] = {0, 2, 3, 5, 8, 10, 13, 17, 21, 25, 30, 35, 41, 47, 53, 60};
+  for (std::size_t n = 5; n <= 20; ++n) {
+    const double c = crit[n - 5];
+    EXPECT_LE(signed_rank_cdf(c, n), 0.05) << n;
+    EXPECT_GT(signed_rank_cdf(c + 1, n), 0.05) << n;
+  }
+  EXPECT_DOUBLE_EQ(signed_rank_cdf(0, 5), 1.0 / 32.0);
+  EXPECT_NEAR(signed_rank_cdf(10, 10), 0.0420, 5e-5);  // 43 of 1024
+  EXPECT_DOUBLE_EQ(signed_rank_cdf(55, 10), 1.0);
+}
+
+TEST(SignedRank, ACandidateMadeWorseIsFlaggedAnIdenticalOneIsNot) {
+  // Ten pairs, the candidate worse in every one: W+ = 55, p = 1/1024.
+  std::vector<double> worse;
+  for (int i = 1; i <= 10; ++i) worse.push_back(0.1 * i);
+  const auto w = signed_rank_test(worse);
+  EXPECT_TRUE(w.exact);
+  EXPECT_EQ(w.n, 10u);
+  EXPECT_EQ(w.w_plus, 55.0);
+  EXPECT_DOUBLE_EQ(w.p_greater, 1.0 / 1024.0);
+  EXPECT_DOUBLE_EQ(w.p_less, 1.0);
+  EXPECT_NEAR(w.median_difference, 0.55, 1e-12);
+  // Identical: every difference zero, nothing ranked, no evidence.
+  const auto same = signed_rank_test(std::vector<double>(10, 0.0));
+  EXPECT_EQ(same.n, 0u);
+  EXPECT_EQ(same.p_greater, 1.0);
+  EXPECT_EQ(same.median_difference, 0.0);
+  // Better in every pair: evidence the other way only.
+  std::vector<double> better;
+  for (double d : worse) better.push_back(-d);
+  const auto b = signed_rank_test(better);
+  EXPECT_DOUBLE_EQ(b.p_greater, 1.0);
+  EXPECT_DOUBLE_EQ(b.p_less, 1.0 / 1024.0);
+}
+
+TEST(SignedRank, TiesAndLargeSamplesUseTheNormalApproximation) {
+  // d = 1, 2, -3, 4, 5, 6, 7, 8, 9, 10 (no ties): T- = 3, P(T <= 3 | n = 10) = 0.0049.
+  std::vector<double> d{1, 2, -3, 4, 5, 6, 7, 8, 9, 10};
+  const auto exact = signed_rank_test(d);
+  EXPECT_TRUE(exact.exact);
+  EXPECT_EQ(exact.w_plus, 52.0);
+  EXPECT_NEAR(exact.p_greater, signed_rank_cdf(3, 10), 1e-15);
+  EXPECT_NEAR(exact.p_greater, 5.0 / 1024.0, 1e-15);
+  // Tied |d|: average ranks (1.5, 1.5, 3), then the normal approximation.
+  const auto tied = signed_rank_test({0.5, -0.5, 2.0, 0.0});
+  EXPECT_FALSE(tied.exact);
+  EXPECT_EQ(tied.n, 3u);
+  EXPECT_EQ(tied.w_plus, 4.5);
+  // 60 untied pairs: the approximation is within 0.005 of the exact distribution.
+  std::vector<double> many;
+  for (int i = 1; i <= 60; ++i) many.push_back(i % 3 == 0 ? -i : i);
+  const auto approx = signed_rank_test(many);
+  EXPECT_FALSE(approx.exact);
+  const double w_minus = 60.0 * 61.0 / 2.0 - approx.w_plus;
+  EXPECT_NEAR(approx.p_greater, signed_rank_cdf(w_minus, 60), 0.005);
 }
 
 }  // namespace

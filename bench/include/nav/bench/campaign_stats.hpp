@@ -61,4 +61,25 @@ struct PassRateVerdict {
 };
 PassRateVerdict judge_pass_rate(std::size_t passed, std::size_t n, double min_rate, double c);
 
+/// Wilcoxon's signed-rank test of paired differences d_i = candidate_i - baseline_i for the
+/// one-sided alternative "the candidate's values are larger" (worse, for an error). Zero
+/// differences are dropped (Wilcoxon's own treatment); tied |d| share their average rank.
+/// W+ is the sum of the ranks of the positive differences. Exact null distribution when at
+/// most 50 differences remain and none are tied; otherwise the normal approximation with the
+/// tie correction of the variance and a continuity correction.
+struct SignedRankTest {
+  std::size_t pairs = 0;        ///< pairs given
+  std::size_t n = 0;            ///< non-zero differences ranked
+  double w_plus = 0.0;          ///< rank sum of positive differences
+  double p_greater = 1.0;       ///< P(W+ >= observed) under "no difference"
+  double p_less = 1.0;          ///< P(W+ <= observed): evidence the candidate is better
+  double median_difference = 0.0;  ///< median of all d_i (zeros kept); NaN when none
+  bool exact = true;            ///< exact distribution (false: normal approximation)
+};
+SignedRankTest signed_rank_test(const std::vector<double>& differences);
+
+/// P(T <= t) for Wilcoxon's signed-rank statistic T over n untied non-zero differences under
+/// "no difference" (each rank's sign a fair coin): the exact distribution (n <= 1000).
+double signed_rank_cdf(double t, std::size_t n);
+
 }  // namespace nav::bench
