@@ -100,6 +100,13 @@ int main(int argc, char** argv) {
       "device's random engine is seeded from it and the device name; summary.json and the "
       "reports give the seed used")
       ->transform(kUnsignedInteger);
+  cmd->add_option("--variant", run.variant,
+                  "A DUT variant's name: replaces {variant} in the DUT commands (a campaign's "
+                  "--variant)")
+      ->check(not_empty);
+  cmd->add_option("--dut-program", run.dut_program,
+                  "Run this program as the DUT instead of the scenario's (its arguments stay)")
+      ->check(CLI::ExistingFile);
   cmd->add_flag("-q,--quiet", run.quiet, "No progress lines on long runs");
   cmd->add_flag("--witness", run.witness,
                 "Timing audit: `navbench witness` takes every DUT's place (realtime only; no "

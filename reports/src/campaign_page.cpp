@@ -164,6 +164,13 @@ std::string banner(const CampaignFolder& c, std::size_t runs, std::size_t passed
     h += std::to_string(shown) + " of " + std::to_string(checks.size()) +
          " campaign checks shown &middot; ";
   }
+  if (const auto& pairs = get_array(c.campaign, "paired_comparisons"); !pairs.empty()) {
+    const auto worse = std::count_if(pairs.begin(), pairs.end(), [](const json& p) {
+      return detail::get_bool(p, "worse").value_or(false);
+    });
+    h += std::to_string(worse) + " of " + std::to_string(pairs.size()) +
+         " variant comparisons worse &middot; ";
+  }
   h += std::to_string(passed) + " of " + std::to_string(runs) + " runs passed &middot; exit code " +
        std::to_string(code) + "</div>";
   if (!detail::get_bool(c.campaign, "complete").value_or(true)) {
@@ -252,6 +259,38 @@ std::string campaign_checks(const CampaignFolder& c) {
              "</p></section>\n";
 }
 
+/// DUT variants against the baseline, pair by seed.
+std::string paired_comparisons(const CampaignFolder& c) {
+  const auto& pairs = get_array(c.campaign, "paired_comparisons");
+  if (pairs.empty()) return {};
+  std::string h = "<section id=\"variants\"><h2>Variants paired by seed</h2><table>\n" +
+                  detail::header_row({"finding", "scenario", "candidate", "baseline", "figure",
+                                      "median paired difference", "one-sided p", "pairs"});
+  for (const auto& p : pairs) {
+    const bool worse = detail::get_bool(p, "worse").value_or(false);
+    const std::string finding = get_string(p, "finding", "");
+    const double p_value = finding == "better" ? get_number(p, "p_better", 1.0)
+                                               : get_number(p, "p_worse", 1.0);
+    const std::string unit = get_string(p, "unit", "");
+    h += "<tr class=\"" + std::string(worse ? "fail" : "pass") + "\">";
+    h += "<td class=\"tag\">" + html_escape(finding) + "</td>";
+    h += "<td>" + html_escape(get_string(p, "scenario", "?")) + "</td>";
+    h += "<td>" + html_escape(get_string(p, "candidate", "?")) + "</td>";
+    h += "<td>" + html_escape(get_string(p, "baseline", "?")) + "</td>";
+    h += "<td>" + html_escape(get_string(p, "figure", "?")) + "</td>";
+    h += "<td class=\"n\">" + detail::fixed(get_number(p, "median_difference")) +
+         (unit.empty() ? "" : " " + html_escape(unit)) + "</td>";
+    h += "<td class=\"n\">" + detail::fixed(p_value, 4) + "</td>";
+    h += "<td class=\"n\">" + detail::num(get_number(p, "pairs"), 10) + "</td></tr>\n";
+  }
+  return h + "</table><p class=\"note\">Each variant against the baseline (the first "
+             "--variant) on the same scenario and seeds: same truth and sensor data, so the runs "
+             "pair by seed. Wilcoxon's signed-rank test of the differences (candidate minus "
+             "baseline), one-sided: worse (or better) when p &lt; 0.05. A run whose DUT measured "
+             "nothing, crashed or hung counts as an infinite error; a worse candidate makes the "
+             "campaign exit 1.</p></section>\n";
+}
+
 std::string runs_table(const CampaignFolder& c) {
   const auto& runs = get_array(c.campaign, "runs");
   std::string h = "<section id=\"runs\"><h2>Runs</h2><table>\n" +
@@ -319,10 +358,12 @@ std::string campaign_report_html(const CampaignFolder& c) {
   std::string body = banner(c, runs, passed);
   const std::string checks = campaign_checks(c);
   body += "<nav class=\"toc\"><a href=\"#identity\">campaign</a> ";
+  const std::string pairs = paired_comparisons(c);
   if (!checks.empty()) body += "<a href=\"#campaign-checks\">campaign checks</a> ";
+  if (!pairs.empty()) body += "<a href=\"#variants\">variants</a> ";
   body += "<a href=\"#comparison\">comparison</a> <a href=\"#distributions\">distributions</a> "
           "<a href=\"#runs\">runs</a></nav>\n<main>\n";
-  body += identity(c) + checks + comparison(c);
+  body += identity(c) + checks + pairs + comparison(c);
   body += "<section id=\"distributions\"><h2>Distributions over the seeds</h2>\n";
   std::size_t plot_no = 0;
   for (const auto& [title, group] : groups_of(sc)) {

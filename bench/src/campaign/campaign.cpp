@@ -69,7 +69,7 @@ IndexEnd bench_error(const CampaignPlan& plan, std::size_t i, const RunInputs& i
                      std::string why) {
   IndexEnd e;
   e.result.index = i;
-  e.result.scenario = plan.scenarios[plan.scenario_of(i)].name;
+  e.result.scenario = plan.cell_name(plan.cell_of(i));
   e.result.run_name = plan.run_name(i);
   e.result.inputs = inputs;
   e.result.exit_code = kExitBench;
@@ -86,7 +86,7 @@ int run_campaign(const CampaignOptions& o) {
     std::fprintf(stderr, "navbench: campaign: --jobs must be at least 1\n");
     return kExitUsage;
   }
-  auto plan = make_plan(o.scenarios, o.seeds, o.first_seed, o.mode);
+  auto plan = make_plan(o.scenarios, o.seeds, o.first_seed, o.mode, o.variants);
   if (!plan) {
     const bool usage = plan.error().code == ErrorCode::kInvalidArgument &&
                        plan.error().detail.rfind("--", 0) == 0;
@@ -110,7 +110,7 @@ int run_campaign(const CampaignOptions& o) {
   std::vector<std::optional<CampaignResult>> results(plan->size());
   std::vector<RunInputs> expected(plan->size());
   for (std::size_t i = 0; i < plan->size(); ++i) {
-    const ScenarioInputs& si = (*inputs)[plan->scenario_of(i)];
+    const ScenarioInputs& si = (*inputs)[plan->cell_of(i)];
     expected[i] = current_inputs(*plan, i, si.sha256, si.dut_sha256);
     CampaignResult found;
     if (done_already(*plan, i, runs_dir, expected[i], &found) == Done::kYes) results[i] = found;

@@ -28,6 +28,7 @@ struct CampaignCli::Parts {
   std::uint64_t index = 0;
   CLI::Option* index_opt = nullptr;
   MergeOptions merge_options;
+  std::vector<std::string> variants, plan_variants;  ///< --variant NAME[=PROGRAM]
 };
 
 namespace {
@@ -36,9 +37,36 @@ TimeMode mode_of(const std::string& m) {
   return m == "realtime" ? TimeMode::kRealtime : TimeMode::kLockstep;
 }
 
+/// The --variant options parsed; false after saying what is wrong.
+bool parse_variants(const char* command, const std::vector<std::string>& texts,
+                    std::vector<PlanVariant>& out) {
+  for (const auto& t : texts) {
+    auto v = parse_variant(t);
+    if (!v) {
+      std::fprintf(stderr, "navbench: %s: %s\n", command, v.error().detail.c_str());
+      return false;
+    }
+    out.push_back(std::move(*v));
+  }
+  if (out.size() == 1) {
+    std::fprintf(stderr,
+                 "navbench: %s: one --variant compares with nothing; give two or more (the "
+                 "first is the baseline)\n",
+                 command);
+    return false;
+  }
+  return true;
+}
+
 /// The options a campaign and its plan share: scenarios, seeds, mode.
 void add_plan_options(CLI::App* c, std::vector<std::string>& scenarios, std::uint64_t& seeds,
-                      std::uint64_t& first_seed, std::string& mode) {
+                      std::uint64_t& first_seed, std::string& mode,
+                      std::vector<std::string>& variants) {
+  c->add_option("--variant", variants,
+                "NAME[=PROGRAM], two or more: run every scenario and seed with each DUT "
+                "variant ({variant} in the DUT command becomes NAME; PROGRAM replaces the DUT "
+                "program); the first is the baseline each other is compared with, pair by seed")
+      ->check(cli::kNotEmpty);
   c->add_option("scenarios", scenarios,
                 "Scenario YAML files; all are validated before anything runs, and their names "
                 "(run folders, table rows) must differ");
@@ -97,7 +125,8 @@ CampaignCli::CampaignCli(CLI::App& app) : p_(std::make_unique<Parts>()) {
       "compare them: one table row per scenario, endpoint error mean, std, min, max; or, with "
       "a subcommand, make its plan, run one index of a plan, or merge results");
   p.campaign->require_subcommand(0, 1);
-  add_plan_options(p.campaign, p.local.scenarios, p.local.seeds, p.local.first_seed, p.mode);
+  add_plan_options(p.campaign, p.local.scenarios, p.local.seeds, p.local.first_seed, p.mode,
+                   p.variants);
   p.campaign->add_option("-j,--jobs", p.local.jobs, "Runs at a time (default 1)")
       ->check(CLI::Range(1u, 1024u));
   p.campaign->add_option("-o,--out", p.local.out_dir,
@@ -111,7 +140,7 @@ CampaignCli::CampaignCli(CLI::App& app) : p_(std::make_unique<Parts>()) {
   p.plan = p.campaign->add_subcommand(
       "plan", "Write a campaign's plan (DIR/plan.json) for run-index tasks to run");
   add_plan_options(p.plan, p.plan_options.scenarios, p.plan_options.seeds,
-                   p.plan_options.first_seed, p.plan_mode);
+                   p.plan_options.first_seed, p.plan_mode, p.plan_variants);
   p.plan->add_option("-o,--out", p.plan_options.out_dir, "Folder to create for the plan")
       ->required()
       ->check(cli::kNotEmpty);
@@ -227,6 +256,9 @@ std::optional<int> CampaignCli::run(int argc, char** argv) {
       std::fprintf(stderr, "navbench: campaign plan: give SCENARIOS... and --seeds N (N >= 1)\n");
       return kExitUsage;
     }
+    if (!parse_variants("campaign plan", p.plan_variants, p.plan_options.variants)) {
+      return kExitUsage;
+    }
     return write_campaign_plan(p.plan_options);
   }
   if (*p.run_index) {
@@ -252,6 +284,7 @@ std::optional<int> CampaignCli::run(int argc, char** argv) {
     }
     o.shard = *s;
   }
+  if (!parse_variants("campaign", p.variants, o.variants)) return kExitUsage;
   o.mode = mode_of(p.mode);
   o.command.assign(argv, argv + argc);
   return run_campaign(o);

@@ -80,7 +80,7 @@ bool under(const fs::path& path, const fs::path& folder) {
 }  // namespace
 
 int write_campaign_plan(const PlanOptions& o) {
-  auto plan = make_plan(o.scenarios, o.seeds, o.first_seed, o.mode);
+  auto plan = make_plan(o.scenarios, o.seeds, o.first_seed, o.mode, o.variants);
   if (!plan) {
     std::fprintf(stderr, "navbench: campaign plan: %s\n", plan.error().detail.c_str());
     return kExitUsage;
@@ -188,7 +188,7 @@ int run_campaign_index(const RunIndexOptions& o) {
     return ok.error().code == ErrorCode::kIo ? kExitBench : kExitUsage;
   }
   const fs::path runs = (out.empty() ? fs::path(".") : out) / "runs";
-  const ScenarioInputs& si = (*inputs)[plan->scenario_of(i)];
+  const ScenarioInputs& si = (*inputs)[plan->cell_of(i)];
   const RunInputs expected = current_inputs(*plan, i, si.sha256, si.dut_sha256);
   CampaignResult found;
   if (done_already(*plan, i, runs, expected, &found) == Done::kYes) {

@@ -137,14 +137,15 @@ int merge_campaign(const MergeOptions& o) {
     }
     versions.insert(by_index[i]->result.inputs.navbench_version);
   }
-  // One DUT program per scenario, one navbench: a table over mixed programs says nothing.
-  for (std::size_t s = 0; s < plan->scenarios.size(); ++s) {
+  // One DUT program per cell (scenario, variant), one navbench: a table over mixed programs
+  // says nothing.
+  for (std::size_t c = 0; c < plan->cells(); ++c) {
     std::set<std::vector<std::string>> duts;
-    for (std::size_t i = s; i < by_index.size(); i += plan->scenarios.size()) {
+    for (std::size_t i = c; i < by_index.size(); i += plan->cells()) {
       if (by_index[i]) duts.insert(by_index[i]->result.inputs.dut_sha256);
     }
     if (duts.size() > 1) {
-      problems.push_back("scenario " + plan->scenarios[s].name + ": its results were made with " +
+      problems.push_back("scenario " + plan->cell_name(c) + ": its results were made with " +
                          std::to_string(duts.size()) + " different DUT programs");
     }
   }

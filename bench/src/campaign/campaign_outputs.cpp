@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "campaign/campaign_pairs.hpp"
 #include "campaign/campaign_runs.hpp"
 #include "campaign/campaign_verdicts.hpp"
 #include "nav/bench/campaign.hpp"
@@ -39,14 +40,17 @@ json number_or_null(double v) { return std::isnan(v) ? json(nullptr) : json(v); 
 
 std::string markdown_document(const CampaignHeader& h, const CampaignPlan& plan,
                               std::size_t finished, const std::string& table,
-                              const std::string& checks) {
+                              const std::string& checks, const std::string& pairs) {
   const std::uint64_t last = plan.first_seed + plan.seeds - 1;
   std::string doc = "# navbench campaign\n\n";
+  const std::string variants_line =
+      plan.variants.empty() ? std::string()
+                            : ", " + std::to_string(plan.variants.size()) + " DUT variants";
   doc += "Command: `" + command_line(h.command) + "`\n\n";
   doc += "Seeds " + std::to_string(plan.first_seed) + "\u2013" + std::to_string(last) + " (" +
          std::to_string(plan.seeds) + " per scenario), " + time_mode_name(plan.mode) + ", " +
          std::to_string(plan.size()) + " runs of " + std::to_string(plan.scenarios.size()) +
-         (plan.scenarios.size() == 1 ? " scenario" : " scenarios") + ".\n\n";
+         (plan.scenarios.size() == 1 ? " scenario" : " scenarios") + variants_line + ".\n\n";
   if (finished < plan.size()) {
     doc += std::string("**Incomplete") + (h.interrupted ? ": interrupted.** " : ".** ") +
            std::to_string(finished) + " of " + std::to_string(plan.size()) +
@@ -62,6 +66,13 @@ std::string markdown_document(const CampaignHeader& h, const CampaignPlan& plan,
            "run whose DUT measured nothing, crashed or hung counts against them; a run in bench "
            "error is left out.\n\n" + checks;
   }
+  if (!pairs.empty()) {
+    doc += "\n## Variants paired by seed\n\nEach variant against the baseline (" +
+           plan.variants.front().name +
+           ") on the same scenario and seeds, figure by figure, by Wilcoxon's signed-rank test "
+           "(one-sided; worse when p < 0.05); a difference is the candidate's value minus the "
+           "baseline's.\n\n" + pairs;
+  }
   return doc;
 }
 
@@ -75,7 +86,7 @@ std::optional<int> write_campaign_outputs(const fs::path& dir, const CampaignPla
   std::size_t finished = 0;
   for (std::size_t i = 0; i < plan.size(); ++i) {
     CampaignRun& r = runs[i];
-    r.scenario = plan.scenarios[plan.scenario_of(i)].name;
+    r.scenario = plan.cell_name(plan.cell_of(i));
     r.seed = plan.seed_of(i);
     r.run_folder = "runs/" + plan.run_name(i);
     r.started = std::find(h.interrupted_indices.begin(), h.interrupted_indices.end(), i) !=
@@ -91,8 +102,13 @@ std::optional<int> write_campaign_outputs(const fs::path& dir, const CampaignPla
       ++finished;
     }
   }
+  // One row per cell: a scenario, or a scenario with a variant (its label "variant").
   std::vector<std::pair<std::string, Labels>> table_scenarios;
-  for (const auto& s : plan.scenarios) table_scenarios.emplace_back(s.name, s.labels);
+  for (std::size_t c = 0; c < plan.cells(); ++c) {
+    Labels labels = plan.scenarios[plan.scenario_of(c)].labels;
+    if (!plan.variants.empty()) labels.emplace_back("variant", plan.variant_name(c));
+    table_scenarios.emplace_back(plan.cell_name(c), std::move(labels));
+  }
   const auto rows = comparison_rows(table_scenarios, runs);
   const auto verdicts = judge_campaign_checks(plan, results);
   std::string checks_text, checks_md;
@@ -104,9 +120,18 @@ std::optional<int> write_campaign_outputs(const fs::path& dir, const CampaignPla
     checks_md += std::string("- **") + word + "** " + v.scenario + " — " + v.statement +
                  (v.spec.req.empty() ? "" : " (" + v.spec.req + ")") + ": " + v.finding + ".\n";
   }
+  const auto pairs = compare_variants(plan, results);
+  std::string pairs_text, pairs_md;
+  for (const auto& c : pairs) {
+    if (c.worse) codes.push_back(kExitFail);  // the regression gate
+    pairs_text += std::string(c.worse ? "WORSE " : "      ") + c.scenario + ": " + c.text + "\n";
+    pairs_md += std::string("- ") + (c.worse ? "**WORSE** " : "") + c.scenario + ": " + c.text +
+                ".\n";
+  }
   const std::string table = comparison_markdown(rows);
   const std::string stdout_text =
-      table + (checks_text.empty() ? "" : "\nCampaign checks:\n" + checks_text);
+      table + (checks_text.empty() ? "" : "\nCampaign checks:\n" + checks_text) +
+      (pairs_text.empty() ? "" : "\nVariants paired by seed:\n" + pairs_text);
   const int exit_code = campaign_exit_code(codes);
 
   json j;
@@ -125,23 +150,31 @@ std::optional<int> write_campaign_outputs(const fs::path& dir, const CampaignPla
   j["complete"] = finished == plan.size();
   j["runs_finished"] = finished;
   j["exit_code"] = h.interrupted ? 130 : exit_code;
-  j["scenarios"] = json::array();
-  for (const auto& s : plan.scenarios) {
+  j["variants"] = json::array();
+  for (const auto& v : plan.variants) {
+    j["variants"].push_back(
+        {{"name", v.name}, {"program", v.program.empty() ? json(nullptr) : json(v.program)}});
+  }
+  j["scenarios"] = json::array();  // one per cell
+  for (std::size_t c = 0; c < plan.cells(); ++c) {
+    const auto& s = plan.scenarios[plan.scenario_of(c)];
     j["scenarios"].push_back(
-        {{"name", s.name},
+        {{"name", table_scenarios[c].first},
+         {"scenario", s.name},
+         {"variant", plan.variants.empty() ? json(nullptr) : json(plan.variant_name(c))},
          {"file", s.file},
          {"sha256", s.sha256},
-         {"labels", labels_json(s.labels)},
+         {"labels", labels_json(table_scenarios[c].second)},
          {"endpoint_check", s.endpoint_check.empty() ? json(nullptr) : json(s.endpoint_check)}});
   }
   j["runs"] = json::array();
-  for (std::size_t s = 0; s < plan.scenarios.size(); ++s) {
-    for (std::size_t i = s; i < runs.size(); i += plan.scenarios.size()) {
+  for (std::size_t c = 0; c < plan.cells(); ++c) {
+    for (std::size_t i = c; i < runs.size(); i += plan.cells()) {
       const auto& r = runs[i];
       json e;
       e["index"] = i;
       e["scenario"] = r.scenario;
-      e["labels"] = labels_json(plan.scenarios[s].labels);
+      e["labels"] = labels_json(table_scenarios[c].second);
       e["seed"] = r.seed;
       e["status"] = r.finished ? "finished" : r.started ? "interrupted" : "not run";
       e["exit_code"] = r.finished ? json(r.exit_code) : nullptr;
@@ -171,9 +204,11 @@ std::optional<int> write_campaign_outputs(const fs::path& dir, const CampaignPla
   }
   j["campaign_checks"] = json::array();
   for (const auto& v : verdicts) j["campaign_checks"].push_back(verdict_json(v));
+  j["paired_comparisons"] = json::array();
+  for (const auto& c : pairs) j["paired_comparisons"].push_back(paired_json(c));
   try {
     write_atomically(dir / "comparison.csv", comparison_csv(rows));
-    write_atomically(dir / "comparison.md", markdown_document(h, plan, finished, table, checks_md));
+    write_atomically(dir / "comparison.md", markdown_document(h, plan, finished, table, checks_md, pairs_md));
     write_atomically(dir / "campaign.json", reports::dump_json(j, 2) + "\n");
     // The campaign report from the files just written, as `navbench report DIR` makes it.
     if (const auto report = reports::write_report(dir.string()); !report) {

@@ -3,6 +3,10 @@
 // shards, and the index a task runs (campaign_plan.hpp).
 #include "nav/bench/campaign_plan.hpp"
 
+#include <unistd.h>
+
+#include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
@@ -39,12 +43,45 @@ const char* time_mode_name(TimeMode m) {
   return m == TimeMode::kLockstep ? "lockstep" : "realtime";
 }
 
+std::string CampaignPlan::cell_name(std::size_t c) const {
+  const std::string& name = scenarios[scenario_of(c)].name;
+  return variants.empty() ? name : name + "-" + variants[variant_of(c)].name;
+}
+
 std::string CampaignPlan::run_name(std::size_t i) const {
-  return scenarios[scenario_of(i)].name + "-s" + std::to_string(seed_of(i));
+  return cell_name(cell_of(i)) + "-s" + std::to_string(seed_of(i));
+}
+
+Result<PlanVariant> parse_variant(const std::string& text) {
+  const auto eq = text.find('=');
+  PlanVariant v;
+  v.name = text.substr(0, eq);
+  const bool ok = !v.name.empty() && v.name.size() <= 64 &&
+                  std::all_of(v.name.begin(), v.name.end(), [](char c) {
+                    return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '.' ||
+                           c == '-';
+                  });
+  if (!ok) {
+    return fail(ErrorCode::kInvalidArgument,
+                "--variant " + text +
+                    ": expected NAME[=PROGRAM], NAME of letters, digits, '_', '.' and '-' (at "
+                    "most 64)");
+  }
+  if (eq == std::string::npos) return v;
+  const std::string program = text.substr(eq + 1);
+  std::error_code ec;
+  const fs::path path = fs::absolute(program, ec).lexically_normal();
+  if (program.empty() || ec || !fs::is_regular_file(path, ec) || ::access(path.c_str(), X_OK) != 0) {
+    return fail(ErrorCode::kInvalidArgument,
+                "--variant " + text + ": '" + program + "' is not an executable file");
+  }
+  v.program = path.string();
+  return v;
 }
 
 Result<CampaignPlan> make_plan(const std::vector<std::string>& scenario_files, std::uint64_t seeds,
-                               std::uint64_t first_seed, TimeMode mode) {
+                               std::uint64_t first_seed, TimeMode mode,
+                               const std::vector<PlanVariant>& variants) {
   if (seeds == 0) return fail(ErrorCode::kInvalidArgument, "--seeds must be at least 1");
   if (seeds - 1 > std::numeric_limits<std::uint64_t>::max() - first_seed) {
     return fail(ErrorCode::kInvalidArgument,
@@ -53,17 +90,34 @@ Result<CampaignPlan> make_plan(const std::vector<std::string>& scenario_files, s
                     " runs past the largest seed, 18446744073709551615");
   }
   if (scenario_files.empty()) return fail(ErrorCode::kInvalidArgument, "no scenario given");
-  if (seeds > kMaxPlanRuns / scenario_files.size()) {
+  for (std::size_t a = 0; a < variants.size(); ++a) {
+    for (std::size_t b = 0; b < a; ++b) {
+      if (variants[a].name == variants[b].name) {
+        return fail(ErrorCode::kInvalidArgument,
+                    "--variant " + variants[a].name + " is given twice: give each its own name");
+      }
+    }
+  }
+  if (seeds > kMaxPlanRuns / (scenario_files.size() * std::max<std::size_t>(variants.size(), 1))) {
     return fail(ErrorCode::kInvalidArgument, "more than 1000000 runs; fewer --seeds");
   }
   CampaignPlan plan;
+  plan.variants = variants;
   plan.mode = mode;
   plan.first_seed = first_seed;
   plan.seeds = seeds;
   std::map<std::string, std::string> names;  // scenario name -> file
   for (const auto& path : scenario_files) {
-    auto sc = preflight_scenario(path);
-    if (!sc) return tl::unexpected(sc.error());
+    // With variants, each one's DUT must be found (and "{variant}" is theirs to fill).
+    Result<Scenario> sc = fail(ErrorCode::kInvalidArgument, "");
+    for (std::size_t v = 0; v < std::max<std::size_t>(variants.size(), 1); ++v) {
+      sc = variants.empty() ? preflight_scenario(path)
+                            : preflight_scenario(path, variants[v].name, variants[v].program);
+      if (!sc && !variants.empty()) {
+        return fail(sc.error().code, sc.error().detail + " (variant " + variants[v].name + ")");
+      }
+      if (!sc) return tl::unexpected(sc.error());
+    }
     const auto [it, fresh] = names.emplace(sc->name, path);
     if (!fresh) {
       return fail(ErrorCode::kInvalidArgument,
@@ -157,7 +211,14 @@ nlohmann::ordered_json plan_json(const CampaignPlan& plan) {
                 {"last", plan.first_seed + plan.seeds - 1},
                 {"count", plan.seeds}};
   j["runs"] = plan.size();
-  j["order"] = "index i: seed first + i / S of scenario i % S (S scenarios, in this order)";
+  j["order"] = "index i: seed first + i / C of cell i % C, cell c: scenario c % S with variant "
+               "(c / S) % V (S scenarios, V variants or 1, C = S x V)";
+  j["variants"] = nlohmann::ordered_json::array();
+  for (const auto& v : plan.variants) {
+    j["variants"].push_back({{"name", v.name},
+                             {"program", v.program.empty() ? nlohmann::ordered_json(nullptr)
+                                                           : nlohmann::ordered_json(v.program)}});
+  }
   j["scenarios"] = nlohmann::ordered_json::array();
   for (const auto& s : plan.scenarios) {
     nlohmann::ordered_json labels = nlohmann::ordered_json::object();
@@ -217,12 +278,22 @@ Result<CampaignPlan> plan_from_json(const nlohmann::ordered_json& j, const std::
     }
     plan.scenarios.push_back(std::move(p));
   }
+  for (const auto& v : json_at(j, "variants")) {
+    const auto& name = json_at(v, "name");
+    const auto& program = json_at(v, "program");
+    if (!name.is_string() || name.get<std::string>().empty() ||
+        !(program.is_null() || program.is_string())) {
+      return bad("a variant needs a \"name\" and a \"program\" (a path, or null)");
+    }
+    plan.variants.push_back({name.get<std::string>(),
+                             program.is_string() ? program.get<std::string>() : std::string()});
+  }
   if (plan.seeds == 0 || plan.seeds - 1 > std::numeric_limits<std::uint64_t>::max() - plan.first_seed ||
-      plan.seeds > kMaxPlanRuns / plan.scenarios.size()) {
+      plan.seeds > kMaxPlanRuns / plan.cells()) {
     return bad("\"seeds\" out of range");
   }
   if (const auto& runs = json_at(j, "runs"); !runs.is_number_unsigned() || runs != plan.size()) {
-    return bad("\"runs\" is not scenarios x seeds");
+    return bad("\"runs\" is not scenarios x variants x seeds");
   }
   return plan;
 }

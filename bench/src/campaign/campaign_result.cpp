@@ -25,6 +25,8 @@ nlohmann::ordered_json result_json(const CampaignResult& r) {
   j["inputs"] = {{"scenario_sha256", r.inputs.scenario_sha256},
                  {"seed", r.inputs.seed},
                  {"mode", r.inputs.mode},
+                 {"variant", r.inputs.variant.empty() ? nlohmann::ordered_json(nullptr)
+                                                      : nlohmann::ordered_json(r.inputs.variant)},
                  {"dut_sha256", r.inputs.dut_sha256},
                  {"navbench_version", r.inputs.navbench_version}};
   j["exit_code"] = r.exit_code;
@@ -35,7 +37,8 @@ nlohmann::ordered_json result_json(const CampaignResult& r) {
   for (const auto& c : r.checks) {
     j["checks"].push_back({{"name", c.name},
                            {"passed", c.passed},
-                           {"value", c.value ? nlohmann::ordered_json(*c.value) : nullptr}});
+                           {"value", c.value ? nlohmann::ordered_json(*c.value) : nullptr},
+                           {"unit", c.unit}});
   }
   j["wall_time_s"] = r.wall_time_s;
   j["host"] = r.host;
@@ -65,6 +68,7 @@ Result<CampaignResult> result_from_json(const nlohmann::json& j, const std::stri
   r.inputs.scenario_sha256 = json_at(in, "scenario_sha256").get<std::string>();
   r.inputs.seed = json_at(in, "seed").get<std::uint64_t>();
   r.inputs.mode = json_at(in, "mode").get<std::string>();
+  if (const auto& v = json_at(in, "variant"); v.is_string()) r.inputs.variant = v.get<std::string>();
   for (const auto& d : json_at(in, "dut_sha256")) {
     if (!d.is_string()) return bad("\"dut_sha256\" holds a non-string");
     r.inputs.dut_sha256.push_back(d.get<std::string>());
@@ -77,8 +81,9 @@ Result<CampaignResult> result_from_json(const nlohmann::json& j, const std::stri
     if (!json_at(c, "name").is_string() || !json_at(c, "passed").is_boolean()) {
       return bad("a check needs \"name\" and \"passed\"");
     }
-    RunCheck rc{json_at(c, "name").get<std::string>(), json_at(c, "passed").get<bool>(), {}};
+    RunCheck rc{json_at(c, "name").get<std::string>(), json_at(c, "passed").get<bool>(), {}, {}};
     if (const auto& v = json_at(c, "value"); v.is_number()) rc.value = v.get<double>();
+    if (const auto& u = json_at(c, "unit"); u.is_string()) rc.unit = u.get<std::string>();
     r.checks.push_back(std::move(rc));
   }
   if (const auto& w = json_at(j, "wall_time_s"); w.is_number()) r.wall_time_s = w.get<double>();
@@ -109,6 +114,7 @@ RunInputs current_inputs(const CampaignPlan& plan, std::size_t i,
   in.scenario_sha256 = scenario_sha256;
   in.seed = plan.seed_of(i);
   in.mode = time_mode_name(plan.mode);
+  in.variant = plan.variant_name(i);
   in.dut_sha256 = dut_sha256;
   in.navbench_version = navbench_version();
   return in;

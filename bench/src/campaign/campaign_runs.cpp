@@ -79,7 +79,8 @@ std::string utc_now() {
 
 Result<std::vector<ScenarioInputs>> plan_inputs(const CampaignPlan& plan) {
   std::vector<ScenarioInputs> out;
-  for (const auto& s : plan.scenarios) {
+  for (std::size_t c = 0; c < plan.cells(); ++c) {
+    const PlanScenario& s = plan.scenarios[plan.scenario_of(c)];
     ScenarioInputs in;
     in.sha256 = reports::sha256_file(s.file).value_or("");
     if (in.sha256.empty()) {
@@ -91,7 +92,9 @@ Result<std::vector<ScenarioInputs>> plan_inputs(const CampaignPlan& plan) {
                       "…, the plan's " + s.sha256.substr(0, 12) +
                       "…); make a new plan, or restore the file");
     }
-    auto sc = preflight_scenario(s.file);
+    const PlanVariant none;
+    const PlanVariant& v = plan.variants.empty() ? none : plan.variants[plan.variant_of(c)];
+    auto sc = preflight_scenario(s.file, v.name, v.program);
     if (!sc) return tl::unexpected(sc.error());
     in.dut_sha256 = dut_sha256s(*sc);
     out.push_back(std::move(in));
@@ -120,9 +123,14 @@ Result<IndexChild> start_index(const CampaignPlan& plan, std::size_t i, const fs
     }
   }
   const PlanScenario& sc = plan.scenarios[plan.scenario_of(i)];
-  const std::vector<std::string> argv{"navbench", "run", sc.file, "--seed",
-                                      std::to_string(plan.seed_of(i)), "--mode",
-                                      time_mode_name(plan.mode), "-o", pending.string(), "-q"};
+  std::vector<std::string> argv{"navbench", "run", sc.file, "--seed",
+                                std::to_string(plan.seed_of(i)), "--mode",
+                                time_mode_name(plan.mode), "-o", pending.string(), "-q"};
+  if (!plan.variants.empty()) {
+    const PlanVariant& v = plan.variants[plan.variant_of(i)];
+    argv.insert(argv.end(), {"--variant", v.name});
+    if (!v.program.empty()) argv.insert(argv.end(), {"--dut-program", v.program});
+  }
   // Its own process group: a terminal's ^C reaches the campaign only, which forwards SIGTERM.
   auto pid = spawn_logged("/proc/self/exe", argv, log_of(runs, name).string(), LogMode::kTruncate);
   if (!pid) return tl::unexpected(pid.error());
@@ -143,7 +151,7 @@ IndexEnd finish_index(const CampaignPlan& plan, std::size_t i, const fs::path& r
   IndexEnd e;
   CampaignResult& r = e.result;
   r.index = i;
-  r.scenario = sc.name;
+  r.scenario = plan.cell_name(plan.cell_of(i));  // with its variant, if any
   r.run_name = name;
   r.inputs = expected;
   r.wall_time_s = wall_time_s;

@@ -4,7 +4,8 @@
 // `navbench campaign run-index` (one). Private to nav_bench.
 //
 //   start_index   clear what an earlier, interrupted attempt left; spawn
-//                 navbench run FILE --seed s --mode M -o runs/.<name>.pending -q
+//                 navbench run FILE --seed s --mode M [--variant V [--dut-program P]]
+//                 -o runs/.<name>.pending -q
 //   (the caller waits for the child)
 //   finish_index  exit status + summary.json -> CampaignResult; when the run finished, its
 //                 folder gets result.json and its log, and is renamed to runs/<name>
@@ -33,7 +34,8 @@ struct IndexChild {
   GroupGuard guard;  ///< ends the run should the campaign die without stopping it
 };
 
-/// The inputs every index of a plan has now, per scenario: its file's SHA-256 and its DUTs'.
+/// The inputs every index of a plan has now, per cell (scenario and variant): its scenario
+/// file's SHA-256 and its DUTs'.
 /// An error (exit 2) when a scenario file changed since the plan was made, or no longer loads.
 struct ScenarioInputs {
   std::string sha256;

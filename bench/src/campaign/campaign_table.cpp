@@ -159,7 +159,7 @@ std::vector<RunCheck> run_checks_from_summary(const nlohmann::json& summary) {
     if (!c.is_object() || !c.value("judged", false)) continue;
     const auto name = c.find("name");
     if (name == c.end() || !name->is_string()) continue;
-    RunCheck r{name->get<std::string>(), c.value("passed", false), {}};
+    RunCheck r{name->get<std::string>(), c.value("passed", false), {}, c.value("unit", std::string())};
     const auto value = c.find("value");
     const auto limit = c.find("limit");
     if (value != c.end() && value->is_number()) {

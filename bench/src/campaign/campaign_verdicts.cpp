@@ -39,10 +39,10 @@ const RunCheck* check_of(const CampaignResult& r, const std::string& name) {
   return nullptr;
 }
 
-CampaignCheckVerdict judge(const PlanScenario& sc, const CampaignCheckSpec& spec,
+CampaignCheckVerdict judge(const std::string& cell, const CampaignCheckSpec& spec,
                            const std::vector<const CampaignResult*>& runs) {
   CampaignCheckVerdict v;
-  v.scenario = sc.name;
+  v.scenario = cell;
   v.spec = spec;
   std::vector<double> values;
   std::size_t passed = 0, counted = 0;
@@ -130,14 +130,16 @@ std::string percentile_name(double q) {
 std::vector<CampaignCheckVerdict> judge_campaign_checks(
     const CampaignPlan& plan, const std::vector<std::optional<CampaignResult>>& results) {
   std::vector<CampaignCheckVerdict> out;
-  for (std::size_t s = 0; s < plan.scenarios.size(); ++s) {
-    const PlanScenario& sc = plan.scenarios[s];
+  for (std::size_t c = 0; c < plan.cells(); ++c) {  // each variant of a scenario on its own
+    const PlanScenario& sc = plan.scenarios[plan.scenario_of(c)];
     if (sc.campaign_checks.empty()) continue;
     std::vector<const CampaignResult*> runs;
-    for (std::size_t i = s; i < results.size(); i += plan.scenarios.size()) {
+    for (std::size_t i = c; i < results.size(); i += plan.cells()) {
       if (results[i]) runs.push_back(&*results[i]);
     }
-    for (const auto& spec : sc.campaign_checks) out.push_back(judge(sc, spec, runs));
+    for (const auto& spec : sc.campaign_checks) {
+      out.push_back(judge(plan.cell_name(c), spec, runs));
+    }
   }
   return out;
 }

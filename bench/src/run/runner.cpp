@@ -270,9 +270,39 @@ Result<bool> find_dut_programs(const Scenario& sc) {
 
 }  // namespace
 
+Result<bool> apply_variant(Scenario& sc, const std::string& variant,
+                           const std::string& dut_program) {
+  constexpr std::string_view kKey = "{variant}";
+  for (std::size_t v = 0; v <= sc.peers.size(); ++v) {
+    auto& command = v == 0 ? sc.dut.command : sc.peers[v - 1].dut.command;
+    for (auto& a : command) {
+      for (auto at = a.find(kKey); at != std::string::npos; at = a.find(kKey, at)) {
+        if (variant.empty()) {
+          const std::string key =
+              v == 0 ? "dut.command" : "peers[" + std::to_string(v - 1) + "].dut.command";
+          return fail(ErrorCode::kInvalidArgument,
+                      sc.file + ": " + key + ": '" + a +
+                          "' holds {variant}: give the variant (navbench run --variant NAME, "
+                          "navbench campaign --variant NAME[=PROGRAM])");
+        }
+        a.replace(at, kKey.size(), variant);
+        at += variant.size();
+      }
+    }
+  }
+  if (!dut_program.empty()) sc.dut.command.front() = dut_program;
+  return true;
+}
+
 Result<Scenario> preflight_scenario(const std::string& path) {
+  return preflight_scenario(path, {}, {});
+}
+
+Result<Scenario> preflight_scenario(const std::string& path, const std::string& variant,
+                                    const std::string& dut_program) {
   auto sc = load_scenario(path);
   if (!sc) return sc;
+  if (auto a = apply_variant(*sc, variant, dut_program); !a) return tl::unexpected(a.error());
   if (auto t = build_truths(*sc); !t) return tl::unexpected(t.error());
   if (auto d = find_dut_programs(*sc); !d) return tl::unexpected(d.error());
   return sc;
@@ -295,6 +325,10 @@ int run_scenario(const RunOptions& o) {
   }
   if (o.mode) sc->mode = *o.mode;
   if (o.seed) sc->seed = *o.seed;
+  if (auto a = apply_variant(*sc, o.variant, o.dut_program); !a) {
+    std::fprintf(stderr, "navbench: %s\n", a.error().detail.c_str());
+    return kExitUsage;
+  }
   auto built = build_truths(*sc);
   if (!built) {
     std::fprintf(stderr, "navbench: %s\n", built.error().detail.c_str());

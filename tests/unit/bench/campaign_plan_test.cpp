@@ -73,6 +73,41 @@ TEST(CampaignPlan, IndicesGoSeedBySeedOverTheScenariosInOrder) {
   EXPECT_TRUE(fs::path(plan.scenarios[0].file).is_absolute());
 }
 
+TEST(CampaignPlan, VariantsMakeCellsAndIndicesGoSeedBySeedOverTheCells) {
+  // The scenarios' DUT is navd, found beside the test's navbench build or in PATH; a variant
+  // program is any executable file.
+  const std::string program = "/bin/true";
+  auto made = make_plan({write_scenario("alpha"), write_scenario("beta")}, 2, 1,
+                        TimeMode::kLockstep, {{"old", ""}, {"new", program}});
+  ASSERT_TRUE(made) << made.error().detail;
+  const CampaignPlan& plan = *made;
+  ASSERT_EQ(plan.cells(), 4u);
+  ASSERT_EQ(plan.size(), 8u);
+  const std::vector<std::string> names{"alpha-old-s1", "beta-old-s1", "alpha-new-s1",
+                                       "beta-new-s1",  "alpha-old-s2", "beta-old-s2",
+                                       "alpha-new-s2", "beta-new-s2"};
+  for (std::size_t i = 0; i < plan.size(); ++i) {
+    EXPECT_EQ(plan.run_name(i), names[i]) << i;
+    EXPECT_EQ(plan.cell_of(i), i % 4) << i;
+    EXPECT_EQ(plan.scenario_of(i), i % 2) << i;
+    EXPECT_EQ(plan.variant_of(i), (i / 2) % 2) << i;
+    EXPECT_EQ(plan.seed_of(i), 1 + i / 4) << i;
+  }
+  EXPECT_EQ(plan.variant_name(2), "new");
+  const auto back = plan_from_json(plan_json(plan), "plan.json");
+  ASSERT_TRUE(back) << back.error().detail;
+  EXPECT_EQ(back->variants, plan.variants);
+  EXPECT_EQ(plan_json(*back), plan_json(plan));
+  // Two of one name, and names or programs that are not.
+  EXPECT_FALSE(make_plan({write_scenario("alpha")}, 1, 1, TimeMode::kLockstep,
+                         {{"x", ""}, {"x", program}}));
+  EXPECT_TRUE(parse_variant("rel-1.2_a"));
+  EXPECT_EQ(parse_variant("cand=/bin/true")->program, "/bin/true");
+  for (const char* bad : {"", "=x", "a b", "a/b", "c=/nonexistent/navd", "c="}) {
+    EXPECT_FALSE(parse_variant(bad)) << bad;
+  }
+}
+
 TEST(CampaignPlan, RefusesBadSeedsAndTwoScenariosOfOneName) {
   const std::string a = write_scenario("alpha");
   EXPECT_FALSE(make_plan({a}, 0, 1, TimeMode::kLockstep));
@@ -172,7 +207,7 @@ CampaignResult a_result() {
   r.index = 3;
   r.scenario = "beta";
   r.run_name = "beta-s6";
-  r.inputs = {std::string(64, 'a'), 6, "lockstep", {std::string(64, 'b')}, "0.1.0-1-gabc"};
+  r.inputs = {std::string(64, 'a'), 6, "lockstep", "", {std::string(64, 'b')}, "0.1.0-1-gabc"};
   r.exit_code = 1;
   r.verdict = "FAIL";
   r.endpoint_error_m = 0.123456789012345;

@@ -49,7 +49,7 @@ CampaignResult run(int exit_code, std::optional<double> endpoint, bool endpoint_
   CampaignResult r;
   r.exit_code = exit_code;
   if (exit_code == kExitPass || exit_code == kExitFail) {
-    r.checks.push_back({"endpoint_error", endpoint_passed, endpoint});
+    r.checks.push_back({"endpoint_error", endpoint_passed, endpoint, "m"});
   }
   return r;
 }

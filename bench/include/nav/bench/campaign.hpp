@@ -43,6 +43,7 @@ struct CampaignOptions {
   std::string out_dir;                 ///< campaign folder; must not exist
   bool quiet = false;                  ///< no progress lines
   Shard shard;                         ///< the indices this campaign runs (default: all)
+  std::vector<PlanVariant> variants;   ///< DUT variants (none, or two or more)
   std::vector<std::string> command;    ///< navbench's argv, recorded in the outputs
 };
 
@@ -58,6 +59,7 @@ struct PlanOptions {
   TimeMode mode = TimeMode::kLockstep;
   std::string out_dir;
   bool quiet = false;
+  std::vector<PlanVariant> variants;   ///< DUT variants (none, or two or more)
   bool slurm = false;                  ///< also DIR/slurm/ (campaign_engines.hpp)
   std::size_t slurm_limit = 16;        ///< tasks of an array at a time (%M)
   std::size_t max_array_size = 1001;   ///< the cluster's MaxArraySize

@@ -5,8 +5,13 @@
 // result folder (runs/<scenario>-s<seed>/: the run folder and result.json) that names its
 // inputs by content, so that results from anywhere can be merged, and a campaign resumed.
 //
-// Index order is seed by seed: index i is seed first + i / S of scenario i % S (S scenarios),
-// so that the first k·S indices are k complete seeds of every scenario.
+// A plan may name DUT variants (`--variant NAME[=PROGRAM]`: "{variant}" in the DUT command
+// becomes NAME, and PROGRAM replaces the primary DUT's program), each run on every scenario and
+// seed, so that their runs pair by seed; the first is the baseline the others are compared with.
+// A cell is one scenario with one variant (C = S scenarios × V variants, V = 1 without any).
+//
+// Index order is seed by seed: index i is seed first + i / C of cell i % C, which is scenario
+// i % S with variant (i / S) % V; so the first k·C indices are k complete seeds of every cell.
 #pragma once
 
 #include <cstddef>
@@ -35,21 +40,47 @@ struct PlanScenario {
 /// A campaign check as plan.json and campaign.json write it.
 nlohmann::ordered_json campaign_check_json(const CampaignCheckSpec& c);
 
+/// A DUT variant of a plan.
+struct PlanVariant {
+  std::string name;     ///< replaces "{variant}" in the DUT commands; names its cells
+  std::string program;  ///< absolute path replacing the primary DUT's program; empty: keep it
+  bool operator==(const PlanVariant&) const = default;
+};
+
 struct CampaignPlan {
   TimeMode mode = TimeMode::kLockstep;
   std::uint64_t first_seed = 1;
-  std::uint64_t seeds = 1;  ///< runs per scenario
+  std::uint64_t seeds = 1;  ///< runs per cell
   std::vector<PlanScenario> scenarios;
+  std::vector<PlanVariant> variants;  ///< none: the scenarios' own DUTs; else the first is the baseline
 
-  /// Runs in the plan (scenarios × seeds).
-  std::size_t size() const { return scenarios.size() * static_cast<std::size_t>(seeds); }
-  /// The scenario of index i (i < size()).
+  /// Variants counted as cells (1 without any).
+  std::size_t variant_count() const { return variants.empty() ? 1 : variants.size(); }
+  /// Cells: scenarios × variants.
+  std::size_t cells() const { return scenarios.size() * variant_count(); }
+  /// Runs in the plan (cells × seeds).
+  std::size_t size() const { return cells() * static_cast<std::size_t>(seeds); }
+  /// The cell of index i (i < size()).
+  std::size_t cell_of(std::size_t i) const { return i % cells(); }
+  /// The scenario of index i (or of cell i).
   std::size_t scenario_of(std::size_t i) const { return i % scenarios.size(); }
+  /// The variant of index i (or of cell i); 0 without variants.
+  std::size_t variant_of(std::size_t i) const { return (i / scenarios.size()) % variant_count(); }
+  /// The variant's name of index i; empty without variants.
+  std::string variant_name(std::size_t i) const {
+    return variants.empty() ? std::string() : variants[variant_of(i)].name;
+  }
   /// The seed of index i.
-  std::uint64_t seed_of(std::size_t i) const { return first_seed + i / scenarios.size(); }
-  /// The name of index i's result folder: <scenario>-s<seed>.
+  std::uint64_t seed_of(std::size_t i) const { return first_seed + i / cells(); }
+  /// The name of cell c: <scenario>, or <scenario>-<variant> with variants.
+  std::string cell_name(std::size_t c) const;
+  /// The name of index i's result folder: <cell>-s<seed>.
   std::string run_name(std::size_t i) const;
 };
+
+/// Parses `--variant NAME[=PROGRAM]`: NAME of [A-Za-z0-9_.-], PROGRAM an executable file
+/// (made absolute); an error says what is wrong.
+Result<PlanVariant> parse_variant(const std::string& text);
 
 /// "lockstep" or "realtime", as plan.json, result.json and `navbench run --mode` spell them.
 const char* time_mode_name(TimeMode m);
@@ -60,7 +91,8 @@ inline constexpr std::uint64_t kMaxPlanRuns = 1'000'000;
 /// Preflights every scenario file (in order) and makes the plan; an error names the file
 /// (and line) at fault, or the bad seed range.
 Result<CampaignPlan> make_plan(const std::vector<std::string>& scenario_files, std::uint64_t seeds,
-                               std::uint64_t first_seed, TimeMode mode);
+                               std::uint64_t first_seed, TimeMode mode,
+                               const std::vector<PlanVariant>& variants = {});
 
 /// plan.json's content.
 nlohmann::ordered_json plan_json(const CampaignPlan& plan);

@@ -29,6 +29,7 @@ struct RunInputs {
   std::string scenario_sha256;
   std::uint64_t seed = 0;
   std::string mode;                     ///< "lockstep" or "realtime"
+  std::string variant;                  ///< the DUT variant's name; empty: none
   std::vector<std::string> dut_sha256;  ///< per vehicle, the primary first
   std::string navbench_version;
   bool operator==(const RunInputs&) const = default;
@@ -39,13 +40,14 @@ struct RunCheck {
   std::string name;
   bool passed = false;
   std::optional<double> value;  ///< what it measured, in its summary's unit; none: nothing
+  std::string unit;             ///< that unit ("m", "deg", ...), as the summary gives it
   bool operator==(const RunCheck&) const = default;
 };
 
 /// A finished index.
 struct CampaignResult {
   std::size_t index = 0;
-  std::string scenario;   ///< scenario name
+  std::string scenario;   ///< scenario name (with "-<variant>" in a plan of variants)
   std::string run_name;   ///< the result folder's name, <scenario>-s<seed>
   RunInputs inputs;
   int exit_code = -1;     ///< navbench run's exit code

@@ -41,6 +41,8 @@ struct RunOptions {
   bool witness = false;
   /// Most bytes of each log a DUT fills (capture-rx*.log, dut*.log); 0: no limit.
   std::uint64_t log_limit = kDefaultLogLimit;
+  std::string variant;      ///< replaces "{variant}" in the DUT commands (a campaign's variant)
+  std::string dut_program;  ///< replaces the primary DUT's program; empty: the scenario's
 };
 
 /// Runs a scenario; prints the verdict; returns the exit code.
@@ -50,6 +52,15 @@ int run_scenario(const RunOptions& options);
 /// vehicle's path (TruthTrajectory::build) and every DUT program (found beside navbench or in
 /// PATH). The error detail is the one line `run` prints before exiting with kExitUsage.
 Result<Scenario> preflight_scenario(const std::string& path);
+/// The same, with a campaign's DUT variant applied (apply_variant).
+Result<Scenario> preflight_scenario(const std::string& path, const std::string& variant,
+                                    const std::string& dut_program);
+
+/// A DUT variant applied to a loaded scenario: "{variant}" in every vehicle's DUT command
+/// becomes `variant`, and a non-empty `dut_program` replaces the primary DUT's program. An error
+/// names the command when it holds "{variant}" and no variant is given.
+Result<bool> apply_variant(Scenario& sc, const std::string& variant,
+                           const std::string& dut_program);
 
 /// The SHA-256 of every vehicle's DUT program (the primary's first) as a run would start it
 /// now; "" for one that cannot be found or read.
