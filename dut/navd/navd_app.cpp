@@ -11,6 +11,7 @@
 #include "nav/common/frames.hpp"
 #include "nav/common/units.hpp"
 #include "nav/protocols/navd_solution.hpp"
+#include "solution_covariance.hpp"
 
 namespace nav::dut {
 namespace {
@@ -322,6 +323,17 @@ bool NavdApp::handle_ahrs(const protocols::gx3::AccelRateMag& m) {
     solution.status = "DEGRADED";
   }
   if (!wait_delay()) return false;
+  // Its covariance, when the navigator keeps one, right before it (the bench has it when the
+  // solution arrives).
+  const auto cov = solution_covariance(
+      m.timer_ticks, nav, gps_nav_ ? gps_nav_->attitude() : dvl_nav_->attitude(),
+      gps_nav_ && gps_nav_->position_velocity() ? &*gps_nav_->position_velocity() : nullptr);
+  if (cov && solution.status != "DEGRADED") {
+    if (auto ok = out_.push(protocols::navd::encode(*cov)); !ok) {
+      stop_reason_ = "output closed: " + ok.error().detail;
+      return false;
+    }
+  }
   if (auto ok = out_.push(protocols::navd::encode(solution)); !ok) {
     stop_reason_ = "output closed: " + ok.error().detail;
     return false;

@@ -342,6 +342,16 @@ Mat<3, 3> euler_rates_jacobian(const EulerState& x, const Vec3& omega_b_radps) {
   return J;
 }
 
+Mat3 rotation_vector_jacobian(const EulerState& x) {
+  const double sth = std::sin(x(1)), cth = std::cos(x(1));
+  const double sps = std::sin(x(2)), cps = std::cos(x(2));
+  Mat3 J;
+  J.col(0) << cps * cth, sps * cth, -sth;  // Rz(ψ) Ry(θ) x̂: roll turns about the body x axis
+  J.col(1) << -sps, cps, 0.0;              // Rz(ψ) ŷ: pitch about the once-turned y axis
+  J.col(2) << 0.0, 0.0, 1.0;               // ẑ: yaw about NED down
+  return J;
+}
+
 EulerState predict_euler(const EulerState& x, const Vec3& omega_b_radps, double dt_s,
                          bool* clamped) {
   return x + euler_rates(x, omega_b_radps, clamped) * dt_s;  // X⁻ = X + Ẋ Δt (Table 1)
@@ -448,6 +458,11 @@ AttitudeStatus EulerEkf::step(const AttitudeInput& in) {
 
 Quat EulerEkf::q_nb() const { return quat_from_state(x_); }
 
+std::optional<Mat3> EulerEkf::attitude_covariance_n() const {
+  const Mat3 J = rotation_vector_jacobian(x_);
+  return Mat3(J * P_ * J.transpose());
+}
+
 // ------------------------------------------------------------------------------------------
 // UKF (Table 2)
 
@@ -511,6 +526,11 @@ AttitudeStatus EulerUkf::step(const AttitudeInput& in) {
 }
 
 Quat EulerUkf::q_nb() const { return quat_from_state(x_); }
+
+std::optional<Mat3> EulerUkf::attitude_covariance_n() const {
+  const Mat3 J = rotation_vector_jacobian(x_);
+  return Mat3(J * P_ * J.transpose());
+}
 
 // ------------------------------------------------------------------------------------------
 // PI complementary filter (Table 3)

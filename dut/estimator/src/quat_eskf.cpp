@@ -280,4 +280,10 @@ AttitudeStatus QuatEskf::step(const AttitudeInput& in) {
   return record(fault ? AttitudeStatus::kNumericalFault : AttitudeStatus::kOk);
 }
 
+std::optional<Mat3> QuatEskf::attitude_covariance_n() const {
+  const Mat3 R = q_nb_.toRotationMatrix();
+  const Mat3 P_tt = P_.block<kDTheta.dof, kDTheta.dof>(kDTheta.idx, kDTheta.idx);
+  return Mat3(R * P_tt * R.transpose());
+}
+
 }  // namespace nav::estimator

@@ -106,6 +106,11 @@ class AttitudeFilter {
   /// The configuration kind of this filter.
   virtual AttitudeFilterKind kind() const = 0;
 
+  /// The covariance of the attitude error as the DUT contract's `$PNVBCOV` states it: the
+  /// rotation vector δθ of R_true R_estᵀ, resolved in NED (R_true = Exp([δθ]×) R_est) [rad²];
+  /// nullopt for a source that keeps no covariance (raw, complementary, Mahony).
+  virtual std::optional<Mat3> attitude_covariance_n() const { return std::nullopt; }
+
   /// Counters so far.
   const AttitudeStats& stats() const { return stats_; }
 

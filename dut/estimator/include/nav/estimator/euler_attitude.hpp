@@ -53,6 +53,13 @@ EulerState euler_rates(const EulerState& x, const Vec3& omega_b_radps,
 /// ∂Ẋ/∂X of euler_rates at X, ω (with the same clamp).
 Mat<3, 3> euler_rates_jacobian(const EulerState& x, const Vec3& omega_b_radps);
 
+/// ∂δθ/∂X at X: how a small change of the Euler state moves the attitude, as the NED
+/// rotation vector δθ of R(X + δX) R(X)ᵀ (attitude_filter.hpp). With R = Rz(ψ) Ry(θ) Rx(φ),
+/// dR Rᵀ = [ẑ dψ + Rz(ψ) ŷ dθ + Rz(ψ) Ry(θ) x̂ dφ]×, so the columns (φ, θ, ψ) are
+/// (cψ cθ, sψ cθ, −sθ), (−sψ, cψ, 0), (0, 0, 1). The Euler filters state their P on X; the
+/// contract's covariance is J P Jᵀ (first order).
+Mat3 rotation_vector_jacobian(const EulerState& x);
+
 /// The prediction step X⁻ = X + Ẋ Δt shared by the three filters (Table 1 line 1).
 EulerState predict_euler(const EulerState& x, const Vec3& omega_b_radps, double dt_s,
                          bool* clamped = nullptr);
@@ -128,6 +135,8 @@ class EulerEkf final : public AttitudeFilter {
   AttitudeFilterKind kind() const override { return AttitudeFilterKind::kEkf; }
   const EulerState& state() const { return x_; }
   const Mat<3, 3>& covariance() const { return P_; }
+  /// J P Jᵀ, J = rotation_vector_jacobian(X).
+  std::optional<Mat3> attitude_covariance_n() const override;
 
  private:
   EkfParams params_;
@@ -156,6 +165,8 @@ class EulerUkf final : public AttitudeFilter {
   AttitudeFilterKind kind() const override { return AttitudeFilterKind::kUkf; }
   const EulerState& state() const { return x_; }
   const Mat<3, 3>& covariance() const { return P_; }
+  /// J P Jᵀ, J = rotation_vector_jacobian(X).
+  std::optional<Mat3> attitude_covariance_n() const override;
   /// Overwrites the covariance (tests use it to provoke a Cholesky failure).
   void set_covariance(const Mat<3, 3>& P) { P_ = P; }
 

@@ -114,6 +114,8 @@ class Navigator {
   /// Status of the attitude step of the last AHRS sample (kOk when it made none).
   AttitudeStatus last_attitude_status() const { return last_status_; }
   const AttitudeFilter& attitude() const { return *attitude_; }
+  /// The position/velocity filter, once the first fix started it.
+  const std::optional<PositionVelocityFilter>& position_velocity() const { return kf_; }
   /// Report of the last GPS position update (nullopt before the first one after anchoring).
   const std::optional<UpdateReport<3>>& last_position_report() const { return last_pos_; }
   /// Report of the last GPS velocity update.

@@ -151,6 +151,9 @@ class QuatEskf final : public AttitudeFilter {
   const Vec3& gyro_bias_b() const { return b_g_; }      ///< b_g [rad/s]
   const Vec3& hard_iron_b() const { return h_b_; }      ///< h_b, body [T]
   const Mat<kN, kN>& covariance() const { return P_; }  ///< P of δx
+  /// The local (body) error δθ_b is δθ_n = R_nb δθ_b in NED (q ⊗ Exp(δθ_b) =
+  /// Exp(R_nb δθ_b) ⊗ q), so the contract's covariance is R_nb P_θθ R_nbᵀ.
+  std::optional<Mat3> attitude_covariance_n() const override;
   const EskfStepInfo& last_step() const { return info_; }
   /// True when h is estimated (m_n known and σ_h0 > 0); else h_b stays 0.
   bool estimates_hard_iron() const { return estimate_h_; }
