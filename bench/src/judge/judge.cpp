@@ -8,6 +8,7 @@
 #include <optional>
 #include <unordered_map>
 
+#include "judge/consistency.hpp"
 #include "judge/restarts.hpp"
 #include "nav/common/units.hpp"
 
@@ -161,6 +162,14 @@ Alignment align_answers(const std::vector<TriggerRecord>& triggers,
     al.est_q_nb = quat_from_euler(Euler{units::deg_to_rad(s.roll_deg),
                                         units::deg_to_rad(s.pitch_deg),
                                         units::deg_to_rad(s.yaw_deg)});
+    if (a.covariance) {  // as stated: σ in m and deg
+      const auto matrix = [](const protocols::navd::CovarianceBlock& b, double scale) {
+        const auto m = protocols::navd::covariance_of(b, scale);
+        return Mat3(Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(m.data()));
+      };
+      if (a.covariance->position) al.cov_p_n = matrix(*a.covariance->position, 1.0);
+      if (a.covariance->attitude) al.cov_att_n = matrix(*a.covariance->attitude, units::kRadToDeg);
+    }
     out.aligned.push_back(al);
   }
   std::stable_sort(out.aligned.begin(), out.aligned.end(),
@@ -280,6 +289,9 @@ JudgeOutput judge(const JudgeInput& in) {
         out.checks.push_back(r);
         break;
       }
+      case CheckKind::kConsistency:
+        out.checks.push_back(detail::judge_consistency(c, out.aligned, in.stopped_at_s));
+        break;
       case CheckKind::kDutAlive: {
         reports::CheckResult r = check_result(c, 1.0, "");
         r.passed = in.dut_alive;

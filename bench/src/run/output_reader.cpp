@@ -53,7 +53,45 @@ struct StoredAnswer {
   double lat_deg = 0, lon_deg = 0, depth_m = 0, vn = 0, ve = 0, vd = 0, roll = 0, pitch = 0,
          yaw = 0;
   bool position_valid = false;
+  /// The covariance stated with it: which blocks (bit 0 position, 1 velocity, 2 attitude),
+  /// each σ₁ σ₂ σ₃ ρ₁₂ ρ₁₃ ρ₂₃ as the DUT wrote them.
+  std::uint8_t covariance_blocks = 0;
+  bool has_covariance = false;
+  double covariance[3][6] = {};
 };
+
+using Block = std::optional<protocols::navd::CovarianceBlock>;
+
+/// The blocks of a covariance into a stored answer.
+void store_covariance(const protocols::navd::SolutionCovariance& c, StoredAnswer& a) {
+  a.has_covariance = true;
+  const Block* blocks[] = {&c.position, &c.velocity, &c.attitude};
+  for (int k = 0; k < 3; ++k) {
+    if (!*blocks[k]) continue;
+    a.covariance_blocks |= static_cast<std::uint8_t>(1u << k);
+    for (int i = 0; i < 3; ++i) {
+      a.covariance[k][i] = (*blocks[k])->sigma[i];
+      a.covariance[k][3 + i] = (*blocks[k])->rho[i];
+    }
+  }
+}
+
+/// A stored answer's covariance, as stated.
+protocols::navd::SolutionCovariance stored_covariance(const StoredAnswer& a) {
+  protocols::navd::SolutionCovariance c;
+  c.trigger_tag = a.tag;
+  Block* blocks[] = {&c.position, &c.velocity, &c.attitude};
+  for (int k = 0; k < 3; ++k) {
+    if ((a.covariance_blocks & (1u << k)) == 0) continue;
+    protocols::navd::CovarianceBlock b;
+    for (int i = 0; i < 3; ++i) {
+      b.sigma[i] = a.covariance[k][i];
+      b.rho[i] = a.covariance[k][3 + i];
+    }
+    *blocks[k] = b;
+  }
+  return c;
+}
 
 struct OutputReader::Store {
   explicit Store(std::string dir) : answers(std::move(dir)) {}
@@ -182,17 +220,34 @@ void OutputReader::consume(Timestamp rx) {
       continue;
     }
     const auto& s = *res.message;
-    if (s.talker + s.type != protocols::navd::kAddress) continue;  // other sentences: ignored
+    const std::string address = s.talker + s.type;
+    if (address == protocols::navd::kCovarianceAddress) {  // for the solution after it
+      auto cov = protocols::navd::decode_covariance(s);
+      if (!cov) {
+        note_malformed(piece, cov.error().detail, rx);
+        pending_covariance_.reset();
+      } else {
+        pending_covariance_ = std::move(*cov);
+      }
+      continue;
+    }
+    if (address != protocols::navd::kAddress) continue;  // other sentences: ignored
     auto sol = protocols::navd::decode(s);
     if (!sol) {
       note_malformed(piece, sol.error().detail, rx);
+      pending_covariance_.reset();
       continue;
     }
     ++store_->by_tag[sol->trigger_tag];
     const auto& v = *sol;
-    store_->answers.push_back(StoredAnswer{rx, v.trigger_tag, v.seq, v.lat_deg, v.lon_deg,
-                                           v.depth_m, v.vn_mps, v.ve_mps, v.vd_mps, v.roll_deg,
-                                           v.pitch_deg, v.yaw_deg, v.position_valid});
+    StoredAnswer stored{rx, v.trigger_tag, v.seq, v.lat_deg, v.lon_deg, v.depth_m, v.vn_mps,
+                        v.ve_mps, v.vd_mps, v.roll_deg, v.pitch_deg, v.yaw_deg,
+                        v.position_valid};
+    if (pending_covariance_ && pending_covariance_->trigger_tag == v.trigger_tag) {
+      store_covariance(*pending_covariance_, stored);
+    }
+    pending_covariance_.reset();
+    store_->answers.push_back(stored);
     ++answer_count_;
     last_answer_ = rx;
   }
@@ -259,6 +314,7 @@ std::vector<Answer> OutputReader::answers() const {
     v.pitch_deg = a.pitch;
     v.yaw_deg = a.yaw;
     v.status.clear();
+    if (a.has_covariance) x.covariance = stored_covariance(a);
     out.push_back(std::move(x));
   }
   return out;

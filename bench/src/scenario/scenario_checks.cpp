@@ -27,7 +27,8 @@ const std::vector<std::pair<std::string, CheckSpec::Kind>>& check_kinds() {
       {"endpoint_error", Kind::kEndpointError},
       {"deadline", Kind::kDeadline},
       {"dut_alive", Kind::kDutAlive},
-      {"restart_recovery", Kind::kRestartRecovery}};
+      {"restart_recovery", Kind::kRestartRecovery},
+      {"consistency", Kind::kConsistency}};
   return kinds;
 }
 
@@ -50,8 +51,13 @@ CheckSpec read_check(const Field& item, const Scenario& s) {
     case Kind::kDeadline: keys.insert(keys.end(), {"input", "max_latency", "max_misses"}); break;
     case Kind::kDutAlive: break;
     case Kind::kRestartRecovery: keys.insert(keys.end(), {"max"}); break;
+    case Kind::kConsistency: keys.insert(keys.end(), {"of", "after"}); break;
   }
   const MapReader m(item, keys);
+  if (c.kind == Kind::kConsistency) {
+    c.of = m.required("of").choice<std::string>({{"position", "position"}, {"attitude", "attitude"}});
+    c.name = c.of + "_consistency";
+  }
   if (auto v = m.optional("name")) c.name = v->identifier();
   if (auto v = m.optional("req")) c.req = v->line("a requirement id such as NAV-REQ-012", 64);
   if (auto v = m.optional("title")) c.title = v->line("the requirement's title", 300);
@@ -75,7 +81,8 @@ CheckSpec read_check(const Field& item, const Scenario& s) {
       if (auto v = m.optional("max_misses")) c.max_misses = v->integer<int>(0, 1'000'000'000);
       break;
     }
-    case Kind::kDutAlive: break;
+    case Kind::kDutAlive:
+    case Kind::kConsistency: break;
     case Kind::kRestartRecovery:
       if (s.dut.restarts.empty()) {
         kind_field->fail("a restart_recovery check needs a restart in dut.faults "

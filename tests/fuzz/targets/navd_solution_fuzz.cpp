@@ -1,8 +1,10 @@
 // SPDX-License-Identifier: MIT
-// The DUT's `$PNVBSOL` output (docs/dut-contract.md) as the bench's OutputReader reads it:
-// NMEA framing up to navd::kMaxSentence, whatever the DUT writes, in any reads, then
-// navd::decode. A solution that decodes is a fixed point of encode(decode(.)).
+// The DUT's `$PNVBSOL` and `$PNVBCOV` output (docs/dut-contract.md) as the bench's OutputReader
+// reads it: NMEA framing up to navd::kMaxSentence, whatever the DUT writes, in any reads, then
+// navd::decode or navd::decode_covariance. A solution that decodes is a fixed point of
+// encode(decode(.)); a covariance is one after its first round (σ to six significant digits).
 #include "fuzz_support.hpp"
+#include "nav/protocols/navd_covariance.hpp"
 #include "nav/protocols/navd_solution.hpp"
 
 namespace {
@@ -15,7 +17,30 @@ nav::protocols::ParseResult<nmea::Sentence> parse_output(nav::fuzz::ByteSpan buf
   return nmea::parse_with_limit(buffer, navd::kMaxSentence);
 }
 
+/// encode(decode(.)) of a covariance sentence's text; empty when it does not decode.
+std::string covariance_round(const std::string& text) {
+  const auto again =
+      nav::fuzz::parse_exactly<nmea::Sentence, &parse_output>(nav::fuzz::bytes_of(text));
+  const auto decoded = navd::decode_covariance(again);
+  NAV_ENSURE(decoded.has_value(), "an encoded covariance does not decode: " + text);
+  return navd::encode(*decoded);
+}
+
+void check_covariance(const nmea::Sentence& s) {
+  const auto cov = navd::decode_covariance(s);
+  if (!cov) return;
+  const std::string text = navd::encode(*cov);
+  if (text.size() > navd::kMaxSentence) return;  // huge σ written out: no sentence
+  const std::string once = covariance_round(text);
+  if (once.size() > navd::kMaxSentence) return;
+  NAV_ENSURE(covariance_round(once) == once, "encode(decode(.)) moves: " + once);
+}
+
 void check(const nmea::Sentence& s) {
+  if (s.talker + s.type == navd::kCovarianceAddress) {
+    check_covariance(s);
+    return;
+  }
   if (s.talker + s.type != navd::kAddress) return;
   const auto sol = navd::decode(s);
   if (!sol) return;

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
-// Scenario loading: the DUT's faults (restarts) and the restart_recovery check.
+// Scenario loading: the DUT's faults (restarts), the restart_recovery check, and the
+// consistency check of the covariance the DUT states.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -61,6 +62,25 @@ TEST(ScenarioDutFaults, NoFaultsMeansNoRestarts) {
   const auto s = load_with("none", "");
   ASSERT_TRUE(s) << s.error().detail;
   EXPECT_TRUE(s->dut.restarts.empty());
+}
+
+TEST(ScenarioDutChecks, ConsistencyNamesWhatItJudgesAndIsNamedAfterIt) {
+  const auto s = load_with("consistency", "", R"(checks:
+  - {kind: consistency, of: attitude, after: 5 s}
+  - {kind: consistency, of: position}
+)");
+  ASSERT_TRUE(s) << s.error().detail;
+  ASSERT_EQ(s->checks.size(), 2u);
+  EXPECT_EQ(s->checks[0].kind, CheckSpec::Kind::kConsistency);
+  EXPECT_EQ(s->checks[0].of, "attitude");
+  EXPECT_EQ(s->checks[0].name, "attitude_consistency");
+  EXPECT_EQ(s->checks[0].after, 5s);
+  EXPECT_EQ(s->checks[1].name, "position_consistency");
+  const auto bad = load_with("consistency_of", "", "checks:\n  - {kind: consistency, of: velocity}\n");
+  ASSERT_FALSE(bad);
+  EXPECT_NE(bad.error().detail.find("expected one of position, attitude, got 'velocity'"),
+            std::string::npos)
+      << bad.error().detail;
 }
 
 struct Refused {

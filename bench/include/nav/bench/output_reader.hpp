@@ -2,7 +2,7 @@
 // Reads the DUT's output port on the bench's event loop (an async_read_some after another on
 // a posix::stream_descriptor): timestamps every read (CLOCK_MONOTONIC), writes it to the
 // receive capture, and decodes `$PNVBSOL` solutions. Other threads wait for answers on a
-// condition variable.
+// condition variable. A `$PNVBCOV` goes with the `$PNVBSOL` right after it.
 #pragma once
 
 #include <condition_variable>
@@ -11,11 +11,13 @@
 #include <functional>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "nav/bench/capture_file.hpp"
 #include "nav/common/time.hpp"
+#include "nav/protocols/navd_covariance.hpp"
 #include "nav/protocols/navd_solution.hpp"
 #include "nav/protocols/parse.hpp"
 #include "nav/reports/run_record.hpp"
@@ -26,6 +28,8 @@ namespace nav::bench {
 struct Answer {
   Timestamp rx{};  ///< CLOCK_MONOTONIC when the read that completed it returned
   protocols::navd::Solution solution;
+  /// The `$PNVBCOV` right before it naming the same trigger, when the DUT stated one.
+  std::optional<protocols::navd::SolutionCovariance> covariance;
 };
 
 class EventLoop;
@@ -88,6 +92,9 @@ class OutputReader {
   /// does not grow with them) and how many name each recent tag.
   struct Store;
   std::unique_ptr<Store> store_;
+  /// The last `$PNVBCOV`, until the `$PNVBSOL` after it (which takes it when it names the
+  /// same trigger).
+  std::optional<protocols::navd::SolutionCovariance> pending_covariance_;
   std::size_t answer_count_ = 0;
   Timestamp last_answer_{};
   std::size_t malformed_ = 0;

@@ -104,7 +104,7 @@ struct DutSpec {
 /// One check of the DUT's output against truth.
 struct CheckSpec {
   enum class Kind { kHorizontalError, kVerticalError, kAttitudeError, kEndpointError,
-                    kDeadline, kDutAlive, kRestartRecovery };
+                    kDeadline, kDutAlive, kRestartRecovery, kConsistency };
   Kind kind = Kind::kHorizontalError;
   double max = 0.0;  ///< limit [m], [rad]; deadline: latency [s]; restart_recovery: time [s]
   double max_per_distance = 0.0;  ///< envelope grows with distance travelled [m/m] (errors)
@@ -114,6 +114,7 @@ struct CheckSpec {
   std::string name;            ///< display name ("horizontal_error", ...)
   std::string req{};           ///< requirement id it proves (`req`, e.g. "NAV-REQ-012"), or empty
   std::string title{};         ///< the requirement's wording (`title`), or empty
+  std::string of{};            ///< consistency: "position" or "attitude"
 };
 
 /// The scenario name of a check kind ("horizontal_error", ...).

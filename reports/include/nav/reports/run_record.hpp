@@ -50,6 +50,9 @@ struct AlignedSample {
   Vec3 truth_p_n, est_p_n;   ///< NED [m]
   Quat truth_q_nb, est_q_nb; ///< attitude body -> NED
   double distance_m = 0.0;   ///< horizontal distance travelled at t [m]
+  /// The covariance the DUT stated with the solution ($PNVBCOV), when it did: position, NED
+  /// [m²]; attitude, of the NED rotation vector of R_true R_estᵀ [rad²].
+  std::optional<Mat3> cov_p_n, cov_att_n;
 };
 
 /// One trigger and the DUT's answer to it.

@@ -1,0 +1,38 @@
+// SPDX-License-Identifier: MIT
+// Filter consistency from the covariance a DUT states with its solutions (`$PNVBCOV`,
+// docs/dut-contract.md): the normalised estimation error squared of each solution,
+//     NEES = eᵀ P⁻¹ e      (e: position error NED [m], or the attitude error as the NED
+//                           rotation vector of R_true R_estᵀ [rad]; P its stated covariance)
+// solved with an LDLᵀ factorisation (no inverse); a covariance that is not positive definite
+// is the DUT's failure. A consistent filter's NEES is χ²-distributed with n = 3 degrees of
+// freedom; the `consistency` check judges a run's time average of K solutions against the
+// two-sided 95 % bounds [χ²_{Kn}(0.025) / K, χ²_{Kn}(0.975) / K] (Bar-Shalom, Li, Kirubarajan,
+// "Estimation with Applications to Tracking and Navigation", 2001, §5.4.2). Private to
+// nav_bench's judge/.
+#pragma once
+
+#include <optional>
+#include <vector>
+
+#include "nav/bench/scenario.hpp"
+#include "nav/reports/run_record.hpp"
+
+namespace nav::bench::detail {
+
+/// eᵀ P⁻¹ e by LDLᵀ; nullopt when P is not symmetric positive definite (or not finite).
+std::optional<double> nees(const Vec3& e, const Mat3& P);
+
+/// The attitude error as the NED rotation vector δθ of R_true R_estᵀ (|δθ| is the attitude
+/// error angle) [rad].
+Vec3 attitude_error_vector(const Quat& truth_q_nb, const Quat& est_q_nb);
+
+/// [χ²_{Kn}(a) / K, χ²_{Kn}(1 − a) / K]: the bounds of the average of K NEES values of n
+/// degrees of freedom, two-sided at 1 − 2a.
+std::pair<double, double> average_nees_bounds(std::size_t k, int n, double a = 0.025);
+
+/// The `consistency` check of one run over its aligned solutions.
+reports::CheckResult judge_consistency(const CheckSpec& c,
+                                       const std::vector<reports::AlignedSample>& aligned,
+                                       std::optional<double> stopped_at_s);
+
+}  // namespace nav::bench::detail
