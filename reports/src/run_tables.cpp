@@ -66,7 +66,7 @@ void write_timeseries(const RunRecord& r, const std::string& dir) {
   auto& o = *f;
   o << "t_s,truth_n_m,truth_e_m,truth_d_m,est_n_m,est_e_m,est_d_m,err_horizontal_m,"
        "err_vertical_m,truth_roll_deg,truth_pitch_deg,truth_yaw_deg,est_roll_deg,"
-       "est_pitch_deg,est_yaw_deg,err_attitude_deg,distance_m\n";
+       "est_pitch_deg,est_yaw_deg,err_attitude_deg,distance_m,nees_position,nees_attitude\n";
   if (r.vehicles.empty()) return;
   for (const auto& a : r.vehicles.front().aligned) {
     const Vec3 e = a.est_p_n - a.truth_p_n;
@@ -78,7 +78,12 @@ void write_timeseries(const RunRecord& r, const std::string& dir) {
       << rad_to_deg(et.pitch) << ',' << rad_to_deg(et.yaw) << ',' << rad_to_deg(ee.roll) << ','
       << rad_to_deg(ee.pitch) << ',' << rad_to_deg(ee.yaw) << ','
       << rad_to_deg(attitude_error_angle(a.truth_q_nb, a.est_q_nb)) << ',' << a.distance_m
-      << '\n';
+      << ',';
+    // The NEES of the covariance the DUT stated (empty: none; nan: not positive definite).
+    if (a.nees_p) o << *a.nees_p;
+    o << ',';
+    if (a.nees_att) o << *a.nees_att;
+    o << '\n';
   }
 }
 

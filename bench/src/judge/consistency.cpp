@@ -48,6 +48,14 @@ std::pair<double, double> average_nees_bounds(std::size_t k, int n, double a) {
   return {boost::math::quantile(chi2, a) / kk, boost::math::quantile(chi2, 1.0 - a) / kk};
 }
 
+void fill_nees(reports::AlignedSample& s) {
+  if (s.cov_p_n) s.nees_p = nees(s.est_p_n - s.truth_p_n, *s.cov_p_n).value_or(std::nan(""));
+  if (s.cov_att_n) {
+    s.nees_att =
+        nees(attitude_error_vector(s.truth_q_nb, s.est_q_nb), *s.cov_att_n).value_or(std::nan(""));
+  }
+}
+
 reports::CheckResult judge_consistency(const CheckSpec& c,
                                        const std::vector<reports::AlignedSample>& aligned,
                                        std::optional<double> stopped_at_s) {

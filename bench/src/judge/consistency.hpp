@@ -30,6 +30,9 @@ Vec3 attitude_error_vector(const Quat& truth_q_nb, const Quat& est_q_nb);
 /// degrees of freedom, two-sided at 1 − 2a.
 std::pair<double, double> average_nees_bounds(std::size_t k, int n, double a = 0.025);
 
+/// Sets s.nees_p and s.nees_att from the covariances s states (NaN: not positive definite).
+void fill_nees(reports::AlignedSample& s);
+
 /// The `consistency` check of one run over its aligned solutions.
 reports::CheckResult judge_consistency(const CheckSpec& c,
                                        const std::vector<reports::AlignedSample>& aligned,

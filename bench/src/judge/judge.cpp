@@ -169,6 +169,7 @@ Alignment align_answers(const std::vector<TriggerRecord>& triggers,
       };
       if (a.covariance->position) al.cov_p_n = matrix(*a.covariance->position, 1.0);
       if (a.covariance->attitude) al.cov_att_n = matrix(*a.covariance->attitude, units::kRadToDeg);
+      detail::fill_nees(al);
     }
     out.aligned.push_back(al);
   }

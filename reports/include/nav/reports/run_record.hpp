@@ -53,6 +53,8 @@ struct AlignedSample {
   /// The covariance the DUT stated with the solution ($PNVBCOV), when it did: position, NED
   /// [m²]; attitude, of the NED rotation vector of R_true R_estᵀ [rad²].
   std::optional<Mat3> cov_p_n, cov_att_n;
+  /// Their NEES (eᵀ P⁻¹ e), when stated; NaN for a covariance that is not positive definite.
+  std::optional<double> nees_p, nees_att;
 };
 
 /// One trigger and the DUT's answer to it.
