@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "campaign/campaign_nees.hpp"
 #include "campaign/campaign_pairs.hpp"
 #include "campaign/campaign_runs.hpp"
 #include "campaign/campaign_verdicts.hpp"
@@ -40,7 +41,8 @@ json number_or_null(double v) { return std::isnan(v) ? json(nullptr) : json(v); 
 
 std::string markdown_document(const CampaignHeader& h, const CampaignPlan& plan,
                               std::size_t finished, const std::string& table,
-                              const std::string& checks, const std::string& pairs) {
+                              const std::string& checks, const std::string& pairs,
+                              const std::string& nees) {
   const std::uint64_t last = plan.first_seed + plan.seeds - 1;
   std::string doc = "# navbench campaign\n\n";
   const std::string variants_line =
@@ -72,6 +74,13 @@ std::string markdown_document(const CampaignHeader& h, const CampaignPlan& plan,
            ") on the same scenario and seeds, figure by figure, by Wilcoxon's signed-rank test "
            "(one-sided; worse when p < 0.05); a difference is the candidate's value minus the "
            "baseline's.\n\n" + pairs;
+  }
+  if (!nees.empty()) {
+    doc += "\n## Filter consistency\n\nThe NEES of the covariance the DUT stated "
+           "($PNVBCOV), averaged over the runs at each whole second (Monte Carlo), against the "
+           "two-sided 95 % bounds of a consistent filter [χ²₃ₙ(0.025)/N, "
+           "χ²₃ₙ(0.975)/N] for N runs; reported, not judged.\n\n"
+           "| scenario | block | NEES |\n|---|---|---|\n" + nees;
   }
   return doc;
 }
@@ -128,10 +137,19 @@ std::optional<int> write_campaign_outputs(const fs::path& dir, const CampaignPla
     pairs_md += std::string("- ") + (c.worse ? "**WORSE** " : "") + c.scenario + ": " + c.text +
                 ".\n";
   }
+  const auto nees = campaign_nees(dir, plan, results);
+  std::string nees_text, nees_md;
+  for (const auto& n : nees) {
+    nees_text += "      " + n.cell + ", " + n.block + ": " + n.text + "\n";
+    nees_md += "| " + n.cell + " | " + n.block + " | " + n.text + " |\n";
+  }
   const std::string table = comparison_markdown(rows);
   const std::string stdout_text =
       table + (checks_text.empty() ? "" : "\nCampaign checks:\n" + checks_text) +
-      (pairs_text.empty() ? "" : "\nVariants paired by seed:\n" + pairs_text);
+      (pairs_text.empty() ? "" : "\nVariants paired by seed:\n" + pairs_text) +
+      (nees_text.empty() ? ""
+                         : "\nFilter consistency (Monte-Carlo averaged NEES, 3 dof, 95 % "
+                           "bounds):\n" + nees_text);
   const int exit_code = campaign_exit_code(codes);
 
   json j;
@@ -206,9 +224,11 @@ std::optional<int> write_campaign_outputs(const fs::path& dir, const CampaignPla
   for (const auto& v : verdicts) j["campaign_checks"].push_back(verdict_json(v));
   j["paired_comparisons"] = json::array();
   for (const auto& c : pairs) j["paired_comparisons"].push_back(paired_json(c));
+  j["nees"] = json::array();
+  for (const auto& n : nees) j["nees"].push_back(nees_json(n));
   try {
     write_atomically(dir / "comparison.csv", comparison_csv(rows));
-    write_atomically(dir / "comparison.md", markdown_document(h, plan, finished, table, checks_md, pairs_md));
+    write_atomically(dir / "comparison.md", markdown_document(h, plan, finished, table, checks_md, pairs_md, nees_md));
     write_atomically(dir / "campaign.json", reports::dump_json(j, 2) + "\n");
     // The campaign report from the files just written, as `navbench report DIR` makes it.
     if (const auto report = reports::write_report(dir.string()); !report) {

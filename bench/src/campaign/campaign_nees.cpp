@@ -1,0 +1,141 @@
+// SPDX-License-Identifier: MIT
+// The Monte-Carlo averaged NEES of a campaign's cells (campaign_nees.hpp).
+#include "campaign/campaign_nees.hpp"
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <map>
+
+#include <boost/math/distributions/chi_squared.hpp>
+
+#include "nav/bench/runner.hpp"
+#include "nav/reports/run_folder.hpp"
+
+namespace nav::bench::detail {
+namespace {
+
+using json = nlohmann::ordered_json;
+
+constexpr double kNearest = 0.05;  ///< a run's solution counts for second s within this [s]
+constexpr const char* kBlocks[] = {"position", "attitude"};
+constexpr const char* kColumns[] = {"nees_position", "nees_attitude"};
+
+/// One run's NEES of a column at each whole second (nearest solution within kNearest).
+std::map<long, double> per_second(const std::vector<double>& t, const std::vector<double>& v) {
+  std::map<long, double> out;
+  std::map<long, double> distance;
+  for (std::size_t i = 0; i < t.size() && i < v.size(); ++i) {
+    if (!std::isfinite(v[i]) || !std::isfinite(t[i])) continue;
+    const long s = std::lround(t[i]);
+    const double d = std::abs(t[i] - static_cast<double>(s));
+    if (d > kNearest) continue;
+    if (auto it = distance.find(s); it == distance.end() || d < it->second) {
+      distance[s] = d;
+      out[s] = v[i];
+    }
+  }
+  return out;
+}
+
+std::string fmt(const char* f, double a, double b = 0, double c = 0, double d = 0) {
+  char buf[160];
+  std::snprintf(buf, sizeof buf, f, a, b, c, d);
+  return buf;
+}
+
+}  // namespace
+
+std::vector<CellNees> campaign_nees(const std::filesystem::path& dir, const CampaignPlan& plan,
+                                    const std::vector<std::optional<CampaignResult>>& results) {
+  // Per cell and block, each stating run's values by second.
+  std::vector<std::array<std::vector<std::map<long, double>>, 2>> by_cell(plan.cells());
+  bool stated[2] = {false, false};
+  for (std::size_t i = 0; i < results.size(); ++i) {
+    const auto& r = results[i];
+    if (!r || (r->exit_code != kExitPass && r->exit_code != kExitFail)) continue;
+    const auto csv = reports::read_csv((dir / "runs" / r->run_name / "timeseries.csv").string(), {});
+    if (!csv) continue;
+    for (int b = 0; b < 2; ++b) {
+      auto values = per_second((*csv)["t_s"], (*csv)[kColumns[b]]);
+      if (values.empty()) continue;
+      stated[b] = true;
+      by_cell[plan.cell_of(i)][b].push_back(std::move(values));
+    }
+  }
+  std::vector<CellNees> out;
+  for (int b = 0; b < 2; ++b) {
+    if (!stated[b]) continue;
+    for (std::size_t c = 0; c < plan.cells(); ++c) {
+      CellNees n;
+      n.cell = plan.cell_name(c);
+      n.block = kBlocks[b];
+      const auto& runs = by_cell[c][b];
+      n.runs = runs.size();
+      if (runs.empty()) {
+        n.text = "no covariance";
+        out.push_back(std::move(n));
+        continue;
+      }
+      const double N = static_cast<double>(n.runs);
+      const boost::math::chi_squared_distribution<double> chi2(3.0 * N);
+      n.lower = boost::math::quantile(chi2, 0.025) / N;
+      n.upper = boost::math::quantile(chi2, 0.975) / N;
+      for (const auto& [s, first] : runs.front()) {
+        double sum = 0.0;
+        bool all = true;
+        for (const auto& run : runs) {
+          const auto it = run.find(s);
+          if (it == run.end()) {
+            all = false;
+            break;
+          }
+          sum += it->second;
+        }
+        if (!all) continue;
+        const double m = sum / N;
+        n.t_s.push_back(static_cast<double>(s));
+        n.mean.push_back(m);
+        n.outside += (m < n.lower || m > n.upper) ? 1 : 0;
+        n.time_mean += m;
+      }
+      if (n.t_s.empty()) {
+        n.text = "no second with a value from every run";
+      } else {
+        n.time_mean /= static_cast<double>(n.t_s.size());
+        n.text = fmt("NEES %.3f on average, outside [%.3f, %.3f] %.0f %% of the time", n.time_mean,
+                     n.lower, n.upper,
+                     100.0 * static_cast<double>(n.outside) / static_cast<double>(n.t_s.size())) +
+                 " (" + std::to_string(n.runs) + (n.runs == 1 ? " run, " : " runs, ") +
+                 std::to_string(n.t_s.size()) + " s)";
+      }
+      out.push_back(std::move(n));
+    }
+  }
+  return out;
+}
+
+json nees_json(const CellNees& n) {
+  json j;
+  j["scenario"] = n.cell;
+  j["block"] = n.block;
+  j["runs"] = n.runs;
+  j["text"] = n.text;
+  if (n.runs == 0 || n.t_s.empty()) return j;
+  j["bounds"] = {n.lower, n.upper};
+  j["seconds"] = n.t_s.size();
+  j["seconds_outside"] = n.outside;
+  j["fraction_outside"] = static_cast<double>(n.outside) / static_cast<double>(n.t_s.size());
+  j["time_mean"] = n.time_mean;
+  // At most 1000 points: every k-th second.
+  const std::size_t step = (n.t_s.size() + 999) / 1000;
+  json t = json::array(), m = json::array();
+  for (std::size_t i = 0; i < n.t_s.size(); i += step) {
+    t.push_back(n.t_s[i]);
+    m.push_back(n.mean[i]);
+  }
+  j["series"] = {{"t_s", t}, {"mean", m}};
+  return j;
+}
+
+}  // namespace nav::bench::detail

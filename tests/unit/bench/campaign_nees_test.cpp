@@ -1,0 +1,94 @@
+// SPDX-License-Identifier: MIT
+// The Monte-Carlo averaged NEES of a campaign (campaign/campaign_nees.hpp) over run folders
+// written here: a consistent filter's average stays within its bounds about 95 % of the
+// time, one that states a quarter of its covariance is outside nearly always, a cell whose
+// runs state none says so.
+#include "campaign/campaign_nees.hpp"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <random>
+
+#include "nav/bench/runner.hpp"
+
+namespace nav::bench::detail {
+namespace {
+
+namespace fs = std::filesystem;
+
+/// Two scenarios (consistent, overconfident), `runs` seeds: the runs' timeseries.csv hold a
+/// NEES at 20 Hz for 200 s, drawn as eᵀ P_true⁻¹ e (χ²₃) times 1 or 4; a third scenario's
+/// state none.
+struct Fixture {
+  fs::path dir;
+  CampaignPlan plan;
+  std::vector<std::optional<CampaignResult>> results;
+};
+
+Fixture make(std::size_t runs) {
+  Fixture f;
+  f.dir = fs::path(::testing::TempDir()) / "navbench_campaign_nees_test";
+  fs::remove_all(f.dir);
+  f.plan.seeds = runs;
+  for (const char* name : {"consistent", "overconfident", "silent"}) {
+    PlanScenario s;
+    s.name = name;
+    f.plan.scenarios.push_back(s);
+  }
+  std::mt19937_64 rng(42);
+  std::chi_squared_distribution<double> chi2(3.0);
+  for (std::size_t i = 0; i < f.plan.size(); ++i) {
+    CampaignResult r;
+    r.exit_code = kExitPass;
+    r.run_name = f.plan.run_name(i);
+    const fs::path folder = f.dir / "runs" / r.run_name;
+    fs::create_directories(folder);
+    std::ofstream out(folder / "timeseries.csv");
+    out << "t_s,err_horizontal_m,nees_position,nees_attitude\n";
+    const std::size_t s = f.plan.scenario_of(i);
+    for (int k = 0; k <= 4000; ++k) {
+      out << k * 0.05 << ",0.1,,";
+      if (s == 0) out << chi2(rng);
+      if (s == 1) out << 4.0 * chi2(rng);
+      out << "\n";
+    }
+    f.results.push_back(r);
+  }
+  return f;
+}
+
+TEST(CampaignNees, ConsistentInsideAbout95PercentOverconfidentOutsideSilentSaysSo) {
+  const Fixture f = make(100);
+  const auto nees = campaign_nees(f.dir, f.plan, f.results);
+  ASSERT_EQ(nees.size(), 3u);  // attitude only: no run states a position covariance
+  const auto& ok = nees[0];
+  EXPECT_EQ(ok.cell, "consistent");
+  EXPECT_EQ(ok.block, "attitude");
+  EXPECT_EQ(ok.runs, 100u);
+  EXPECT_NEAR(ok.lower, 2.54, 0.01);  // the tabulated [2.54, 3.50] for n = 3, N = 100
+  EXPECT_NEAR(ok.upper, 3.50, 0.01);
+  ASSERT_EQ(ok.t_s.size(), 201u);     // 0 .. 200 s
+  const double outside = static_cast<double>(ok.outside) / static_cast<double>(ok.t_s.size());
+  EXPECT_LT(outside, 0.12);           // 5 % expected; binomial(201, 0.05) stays below 12 %
+  EXPECT_NEAR(ok.time_mean, 3.0, 0.1);
+  const auto& over = nees[1];
+  EXPECT_GT(over.outside, over.t_s.size() * 99 / 100);
+  EXPECT_NEAR(over.time_mean, 12.0, 0.4);
+  EXPECT_NE(over.text.find("outside [2.548, 3.499]"), std::string::npos) << over.text;
+  EXPECT_EQ(nees[2].runs, 0u);
+  EXPECT_EQ(nees[2].text, "no covariance");
+  EXPECT_FALSE(nees_json(nees[2]).contains("bounds"));
+  EXPECT_EQ(nees_json(ok)["series"]["t_s"].size(), 201u);
+}
+
+TEST(CampaignNees, NothingStatedNothingReported) {
+  Fixture f = make(2);
+  f.plan.scenarios.resize(1);  // only "consistent": ...
+  for (auto& r : f.results) r->exit_code = kExitBench;  // ... and every run in bench error
+  EXPECT_TRUE(campaign_nees(f.dir, f.plan, f.results).empty());
+}
+
+}  // namespace
+}  // namespace nav::bench::detail
