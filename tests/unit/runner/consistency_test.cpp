@@ -43,7 +43,7 @@ TEST(Nees, AttitudeErrorVectorIsTheRotationFromEstimateToTruth) {
 
 TEST(Nees, BoundsOfTheAverageAreTheTabulatedChiSquareQuantiles) {
   const auto [lo, hi] = average_nees_bounds(100, 3);
-  EXPECT_NEAR(lo, 2.54, 0.005);  // χ²_300(0.025) / 100 = 2.5478
+  EXPECT_NEAR(lo, 2.54, 0.005);  // χ²_300(0.025) / 100 = 2.5391
   EXPECT_NEAR(hi, 3.50, 0.005);  // χ²_300(0.975) / 100 = 3.4989
   const auto [lo1, hi1] = average_nees_bounds(1, 3);
   EXPECT_NEAR(lo1, 0.2158, 5e-4);
