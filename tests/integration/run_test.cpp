@@ -61,9 +61,18 @@ TEST(NavbenchRun, RealtimeScenarioWithNavdPasses) {
   const auto out = run_navbench({"decode", "--protocol", "nmea0183", "--port", "output",
                                  (run / "capture-rx.log").string()}, dir);
   EXPECT_EQ(out.exit_code, 0) << out.err;
-  EXPECT_NE(out.err.find(": " + std::to_string(s["dut"]["answers"].get<int>()) +
+  // Every solution, and the covariance navd states before each one with a position (its
+  // GPS Kalman filter's; the Mahony attitude keeps none).
+  std::size_t covariances = 0;
+  for (auto at = out.out.find(R"("type":"NVBCOV")"); at != std::string::npos;
+       at = out.out.find(R"("type":"NVBCOV")", at + 1)) {
+    ++covariances;
+  }
+  EXPECT_GT(covariances, 0u);
+  EXPECT_NE(out.err.find(": " + std::to_string(s["dut"]["answers"].get<std::size_t>() + covariances) +
                          " messages, 0 errors"), std::string::npos) << out.err;
   EXPECT_NE(out.out.find(R"({"type":"NVBSOL","talker":"P","input":"AHRS")"), std::string::npos);
+  EXPECT_NE(out.out.find(R"("attitude_deg":null,"position_m":{"rho":)"), std::string::npos);
 }
 
 TEST(NavbenchRun, LockstepRunsAreBitReproducible) {

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
-// `navbench decode` for the MicroStrain GX3 and NMEA 0183 (with navd's $PNVBSOL and $PNVBPOS):
+// `navbench decode` for the MicroStrain GX3 and NMEA 0183 (with navd's $PNVBSOL, $PNVBCOV and
+// $PNVBPOS):
 // one codec message in, one JSON object out (decode/decode_builders.hpp).
 #include <charconv>
 #include <cstdio>
@@ -8,6 +9,7 @@
 #include "nav/common/units.hpp"
 #include "nav/protocols/microstrain_gx3.hpp"
 #include "nav/protocols/navd_modem.hpp"
+#include "nav/protocols/navd_covariance.hpp"
 #include "nav/protocols/navd_solution.hpp"
 #include "nav/protocols/nmea0183.hpp"
 
@@ -100,6 +102,18 @@ json nmea_json(const protocols::nmea::Sentence& s) {
     j["pitch_deg"] = sol->pitch_deg;
     j["yaw_deg"] = sol->yaw_deg;
     j["status"] = sol->status;
+    return j;
+  }
+  if (s.talker + s.type == protocols::navd::kCovarianceAddress) {
+    auto cov = protocols::navd::decode_covariance(s);
+    if (!cov) return json{{"type", "error"}, {"error", cov.error().detail}};
+    j["trigger_tag"] = cov->trigger_tag;
+    const auto block = [](const std::optional<protocols::navd::CovarianceBlock>& b) {
+      return b ? json{{"sigma", b->sigma}, {"rho", b->rho}} : json(nullptr);
+    };
+    j["position_m"] = block(cov->position);
+    j["velocity_mps"] = block(cov->velocity);
+    j["attitude_deg"] = block(cov->attitude);
     return j;
   }
   if (s.talker + s.type == protocols::navd_modem::kAddress) {
