@@ -15,6 +15,7 @@
 
 #include "campaign/campaign_outputs.hpp"
 #include "campaign/campaign_runs.hpp"
+#include "campaign/cpu_slots.hpp"
 #include "campaign/live_progress.hpp"
 #include "nav/bench/runner.hpp"
 #include "nav/reports/atomic_file.hpp"
@@ -138,6 +139,7 @@ int run_campaign(const CampaignOptions& o) {
   bool terminating = false;
   Clock::time_point kill_at{};
   LiveProgress live(todo.size(), !o.quiet);
+  CpuSlots cpus(plan->mode == TimeMode::kLockstep, o.jobs);
   const auto report = [&](const IndexEnd& e) {
     ++ended;
     if (!o.quiet) {
@@ -154,6 +156,7 @@ int run_campaign(const CampaignOptions& o) {
         report(e);
         continue;
       }
+      cpus.pin(child->pid);
       running.push_back(std::move(*child));
     }
     if (running.empty()) break;
@@ -165,6 +168,7 @@ int run_campaign(const CampaignOptions& o) {
         ++it;
         continue;
       }
+      cpus.release(it->pid);
       const IndexEnd e =
           w < 0 ? bench_error(*plan, it->index, expected[it->index], "lost (waitpid failed)")
                 : finish_index(*plan, it->index, runs_dir, status, seconds_since(it->start),
