@@ -29,7 +29,9 @@ struct Fixture {
 
 Fixture make(std::size_t runs) {
   Fixture f;
-  f.dir = fs::path(::testing::TempDir()) / "navbench_campaign_nees_test";
+  // A folder per test: ctest runs the tests of this file at the same time.
+  f.dir = fs::path(::testing::TempDir()) / "navbench_campaign_nees_test" /
+          ::testing::UnitTest::GetInstance()->current_test_info()->name();
   fs::remove_all(f.dir);
   f.plan.seeds = runs;
   for (const char* name : {"consistent", "overconfident", "silent"}) {

@@ -22,7 +22,10 @@ namespace {
 namespace fs = std::filesystem;
 
 std::string write_scenario(const std::string& name) {
-  const fs::path p = fs::path(::testing::TempDir()) / "navbench_campaign_plan_test" / (name + ".yaml");
+  // A folder per test: ctest runs the tests of this file at the same time.
+  const fs::path p = fs::path(::testing::TempDir()) / "navbench_campaign_plan_test" /
+                     ::testing::UnitTest::GetInstance()->current_test_info()->name() /
+                     (name + ".yaml");
   fs::create_directories(p.parent_path());
   std::ofstream(p) << "name: " << name << "\n"
                    << "labels: {gains: " << name << "}\n"
