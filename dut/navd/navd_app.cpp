@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "navd_app.hpp"
 
+#include <systemd/sd-daemon.h>
+
 #include <algorithm>
 #include <array>
 #include <chrono>
@@ -430,6 +432,9 @@ std::string NavdApp::run() {
     const char* name = sigabbrev_np(signal_number);
     stop_reason_ = std::string("SIG") + (name != nullptr ? name : "?");
   });
+  // Every port is open and configured: the bench may start sending (a lockstep run starts
+  // at once instead of after the whole dut.startup). Nothing happens without NOTIFY_SOCKET.
+  (void)sd_notify(0, "READY=1");
   while (stop_reason_.empty()) {
     arm_waits();
     wait_for_wake();

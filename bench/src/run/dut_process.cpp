@@ -8,12 +8,14 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <sstream>
+#include <string_view>
 #include <thread>
 #include <utility>
 
@@ -50,7 +52,8 @@ std::optional<std::string> DutProcess::resolve(const std::string& program) {
 }
 
 Result<pid_t> spawn_logged(const std::string& program, const std::vector<std::string>& argv,
-                           const std::string& log_path, LogMode mode) {
+                           const std::string& log_path, LogMode mode,
+                           const std::vector<std::string>& environment) {
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
   posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
@@ -70,8 +73,19 @@ Result<pid_t> spawn_logged(const std::string& program, const std::vector<std::st
   std::vector<char*> args;
   for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
   args.push_back(nullptr);
+  std::vector<char*> env;
+  const auto name_of = [](std::string_view v) { return v.substr(0, v.find('=') + 1); };
+  for (char** e = environ; *e != nullptr; ++e) {
+    const std::string_view name = name_of(*e);
+    if (std::none_of(environment.begin(), environment.end(),
+                     [&](const std::string& x) { return name_of(x) == name; })) {
+      env.push_back(*e);
+    }
+  }
+  for (const auto& x : environment) env.push_back(const_cast<char*>(x.c_str()));
+  env.push_back(nullptr);
   pid_t pid = -1;
-  const int rc = ::posix_spawn(&pid, program.c_str(), &actions, &attr, args.data(), environ);
+  const int rc = ::posix_spawn(&pid, program.c_str(), &actions, &attr, args.data(), env.data());
   posix_spawn_file_actions_destroy(&actions);
   posix_spawnattr_destroy(&attr);
   if (rc != 0) return tl::unexpected(io_error("cannot start " + program, rc));
@@ -79,12 +93,13 @@ Result<pid_t> spawn_logged(const std::string& program, const std::vector<std::st
 }
 
 Result<DutProcess> DutProcess::start(const std::vector<std::string>& argv,
-                                     const std::string& log_path) {
+                                     const std::string& log_path,
+                                     const std::vector<std::string>& environment) {
   if (argv.empty()) return fail(ErrorCode::kInvalidArgument, "empty DUT command");
   const auto program = resolve(argv[0]);
   if (!program) return fail(ErrorCode::kNotFound, "DUT program not found: " + argv[0]);
 
-  const auto pid = spawn_logged(*program, argv, log_path, LogMode::kAppend);
+  const auto pid = spawn_logged(*program, argv, log_path, LogMode::kAppend, environment);
   if (!pid) return tl::unexpected(pid.error());
   auto guard = GroupGuard::watch(*pid, std::chrono::milliseconds(500));
   if (!guard) {

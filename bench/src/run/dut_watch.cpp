@@ -135,7 +135,17 @@ void DutWatch::start(const std::vector<BenchLine>& lines, const std::filesystem:
     veh.argv = argv_of(v, lines, dir);
     // The primary's DUT log and output capture keep their single-vehicle names.
     const std::string log_name = v == 0 ? "dut.log" : "dut-" + veh.name + ".log";
-    auto dut = DutProcess::start(veh.argv, (dir / log_name).string());
+    // Always a NOTIFY_SOCKET of its own: one inherited from a service manager that started
+    // the bench is not the DUT's to use.
+    std::vector<std::string> env;
+    if (!veh.dut->witness) {
+      if (auto notice = ReadyNotice::open()) {
+        veh.ready = std::make_unique<ReadyNotice>(std::move(*notice));
+        env.push_back(veh.ready->environment());
+      }
+    }
+    if (env.empty()) env.emplace_back("NOTIFY_SOCKET=");
+    auto dut = DutProcess::start(veh.argv, (dir / log_name).string(), env);
     if (!dut) {
       throw std::runtime_error(v == 0 ? dut.error().detail
                                       : "peer '" + veh.name + "': " + dut.error().detail);
@@ -156,6 +166,19 @@ void DutWatch::start(const std::vector<BenchLine>& lines, const std::filesystem:
     watchdog_ = std::make_unique<Watchdog>(loop_.context());
     arm_watchdog();
   });
+}
+
+bool DutWatch::all_ready() {
+  return std::all_of(vehicles_.begin(), vehicles_.end(), [](Vehicle& veh) {
+    return veh.proc && veh.ready && veh.ready->read(veh.proc->pid());
+  });
+}
+
+void DutWatch::set_t0(Timestamp t0) {
+  t0_ = t0;
+  for (auto& veh : vehicles_) {
+    if (veh.reader) veh.reader->set_t0(t0);
+  }
 }
 
 void DutWatch::warn_of_ports_not_opened(const std::vector<BenchLine>& lines) {
@@ -314,7 +337,8 @@ bool DutWatch::power_on(std::uint32_t v, const DutRestart& r) {
     std::fclose(fp);
   }
   RestartRecord& rec = veh.restarts.back();
-  auto dut = DutProcess::start(veh.argv, log);
+  auto dut = DutProcess::start(
+      veh.argv, log, {veh.ready ? veh.ready->environment() : std::string("NOTIFY_SOCKET=")});
   if (!dut) {
     crashed_ = true;
     veh.failed = true;

@@ -35,6 +35,7 @@
 #include "nav/bench/scenario.hpp"
 #include "run/device_streams.hpp"
 #include "run/event_loop.hpp"
+#include "run/ready_notice.hpp"
 #include "run/recent_counts.hpp"
 #include "run/dut_log_limit.hpp"
 #include "run/run_log.hpp"
@@ -54,6 +55,9 @@ struct Vehicle {
   std::unique_ptr<OutputReader> reader;
   std::unique_ptr<CaptureFile> output_capture;  ///< peers: capture-rx-<name>.log
   std::unique_ptr<DutLogLimit> log_limit;        ///< on its dut.log (dut-<name>.log)
+  /// Where its DUT may say it is ready (NOTIFY_SOCKET); null: none could be made, or a
+  /// witness stands in the DUT's place.
+  std::unique_ptr<ReadyNotice> ready;
   std::vector<TriggerRecord> triggers;  ///< every trigger of the schedule, in order
   std::size_t triggers_sent = 0;
   /// Of the triggers sent, in send order: one slot per trigger, set by the player, the first
@@ -98,6 +102,12 @@ class DutWatch {
   /// Throws (naming a peer) when a DUT cannot be started.
   void start(const std::vector<BenchLine>& lines, const std::filesystem::path& dir, Timestamp t0,
              RunLog& log, std::uint64_t log_limit);
+
+  /// Whether every DUT has said it is ready (ReadyNotice; reads what they sent). On the loop.
+  bool all_ready();
+  /// Moves the run's t0 (before anything was sent): a lockstep run starts once every DUT is
+  /// ready, before the end of its dut.startup.
+  void set_t0(Timestamp t0);
 
   /// At scenario time 0: on the loop (the caller goes on), a warning on stderr for each pty
   /// a DUT was given but has not opened yet. What the bench writes to it before the DUT

@@ -116,6 +116,10 @@ OutputReader::~OutputReader() {
   io_->loop.call([&] { io_.reset(); });
 }
 
+void OutputReader::set_t0(Timestamp t0) {
+  io_->loop.call([&] { t0_ = t0; });
+}
+
 void OutputReader::start() {
   io_->loop.call([this] {
     io_->started = true;

@@ -65,6 +65,9 @@ std::atomic<bool> g_interrupted{false};  ///< set by SIGINT/SIGTERM (the event l
 /// signal came.
 Wakeup g_news;
 
+/// How often a lockstep startup looks whether every DUT said it is ready.
+constexpr Duration kReadyPoll = 2ms;
+
 /// The program argv[0] names, resolved as the DUT was started, and its SHA-256.
 std::pair<std::string, std::string> executable_identity(const std::vector<std::string>& argv) {
   if (argv.empty()) return {};
@@ -183,7 +186,7 @@ reports::RunRecord play_run(const Scenario& sc, const VehicleTruths& truths,
 
   Duration startup{0};
   for (const auto& veh : watch.vehicles()) startup = std::max(startup, veh.dut->startup);
-  const Timestamp t0 = monotonic_now() + startup;
+  Timestamp t0 = monotonic_now() + startup;
   reactive.set_t0(t0);
   can.set_t0(t0);
   wires.set_t0(t0);
@@ -195,15 +198,26 @@ reports::RunRecord play_run(const Scenario& sc, const VehicleTruths& truths,
   std::optional<CpuWakeLatencyHold> awake;
   if (sc.mode == TimeMode::kRealtime) awake.emplace();
   // The DUTs' startup, on the event loop: until t0 (a timer), the watchdog's verdict (a
-  // crash), a signal; the step runs again whenever a DUT writes to a device line.
-  loop.wait_until(t0, 100ms, [&] {
+  // crash), a signal; the step runs again whenever a DUT writes to a device line. Lockstep
+  // also ends it once every DUT said it is ready (sd_notify): its scenario time 0 is then.
+  const bool virtual_time = sc.mode == TimeMode::kLockstep;
+  bool all_ready = false;
+  loop.wait_until(t0, virtual_time ? kReadyPoll : 100ms, [&] {
     const Timestamp now = monotonic_now();
     if (g_interrupted || !watch.ok()) return true;
+    if (virtual_time && watch.all_ready()) return all_ready = true;
     // Realtime answers a start command sent during startup at once; lockstep reads it
     // before its first message, at scenario time 0, so that runs are reproducible.
     if (sc.mode == TimeMode::kRealtime) reactive.poll_host_lines(now - t0);
     return false;
   });
+  if (all_ready && monotonic_now() < t0) {
+    t0 = monotonic_now();
+    reactive.set_t0(t0);
+    can.set_t0(t0);
+    wires.set_t0(t0);
+    watch.set_t0(t0);
+  }
   if (watch.ok() && !g_interrupted) {
     watch.warn_of_ports_not_opened(lines);
     wires.play(sc.mode == TimeMode::kRealtime ? static_cast<Pacer&>(realtime) : lockstep, clock);

@@ -21,16 +21,20 @@ enum class LogMode { kAppend, kTruncate };
 
 /// Starts `program` (a path) with `argv` (no shell), stdin from /dev/null, stdout and stderr
 /// to log_path, default signal handling and its own process group (a terminal's ^C then
-/// reaches the bench only, which stops the child itself). Returns the child's pid.
+/// reaches the bench only, which stops the child itself). `environment` ("NAME=value") adds to
+/// the bench's own environment, or replaces a variable of the same name. Returns the child's
+/// pid.
 Result<pid_t> spawn_logged(const std::string& program, const std::vector<std::string>& argv,
-                           const std::string& log_path, LogMode mode);
+                           const std::string& log_path, LogMode mode,
+                           const std::vector<std::string>& environment = {});
 
 class DutProcess {
  public:
   /// Starts argv[0] (a path, or a name looked up next to navbench, then in PATH) with
-  /// stdout and stderr appended to log_path.
+  /// stdout and stderr appended to log_path, and `environment` as spawn_logged() takes it.
   static Result<DutProcess> start(const std::vector<std::string>& argv,
-                                  const std::string& log_path);
+                                  const std::string& log_path,
+                                  const std::vector<std::string>& environment = {});
 
   DutProcess(DutProcess&& o) noexcept;
   DutProcess& operator=(DutProcess&&) = delete;

@@ -46,6 +46,8 @@ class OutputReader {
   OutputReader& operator=(const OutputReader&) = delete;
 
   void start();
+  /// Moves the t0 its times count from (before the DUT answered anything).
+  void set_t0(Timestamp t0);
   /// Stops reading after reading what is already buffered.
   void stop();
   /// The writer is gone (a DUT killed by a restart fault): reads what it wrote, then drops
