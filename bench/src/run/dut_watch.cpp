@@ -159,6 +159,8 @@ void DutWatch::start(const std::vector<BenchLine>& lines, const std::filesystem:
     veh.reader = std::make_unique<OutputReader>(
         lines[veh.output_line].fd(), v == 0 ? log.rx.get() : veh.output_capture.get(), t0,
         &loop_);
+    // Lockstep waits for each answer before anything else happens: the waiting thread reads.
+    if (sc_.mode == TimeMode::kLockstep) veh.reader->read_in_waits();
     veh.reader->start();
   }
   // The watchdog: every kWatchPeriod on the loop, until finish().

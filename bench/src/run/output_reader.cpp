@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "nav/bench/output_reader.hpp"
 
+#include <poll.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -120,7 +121,14 @@ void OutputReader::set_t0(Timestamp t0) {
   io_->loop.call([&] { t0_ = t0; });
 }
 
+void OutputReader::read_in_waits() {
+  read_in_waits_ = true;
+  // Off the loop's epoll set: each answer would wake the loop thread for nothing.
+  io_->loop.call([&] { (void)io_->descriptor.release(); });
+}
+
 void OutputReader::start() {
+  if (read_in_waits_) return;  // the waits read
   io_->loop.call([this] {
     io_->started = true;
     read_next();
@@ -160,8 +168,41 @@ void OutputReader::read_buffered() {
   }
 }
 
+void OutputReader::read_here() {
+  const std::lock_guard lock(read_mutex_);
+  std::array<std::uint8_t, 4096> chunk;
+  for (;;) {
+    const ssize_t n = ::read(fd_, chunk.data(), chunk.size());
+    if (n <= 0) break;  // EAGAIN: drained; EIO: no writer at the moment
+    on_read(chunk.data(), static_cast<std::size_t>(n), monotonic_now());
+  }
+}
+
+void OutputReader::poll_line(Timestamp deadline) {
+  const Timestamp now = monotonic_now();
+  int ms = 0;
+  if (now < deadline) {
+    // At most 20 ms at a time, as the event loop's waits (a stop request is seen then).
+    const auto left = std::min<Duration>(deadline - now, 20ms);
+    ms = static_cast<int>(std::chrono::ceil<std::chrono::milliseconds>(left).count());
+  }
+  pollfd p{fd_, POLLIN, 0};
+  const int r = ::poll(&p, 1, ms);
+  if (r > 0 && (p.revents & POLLIN) == 0 && ms > 0) {
+    // No writer (a hang-up): nothing to wait on, so wait the time out instead of spinning.
+    (void)::poll(nullptr, 0, ms);
+  }
+}
+
 std::size_t OutputReader::drop_unfinished() {
   std::size_t dropped = 0;
+  if (read_in_waits_) {
+    read_here();
+    const std::lock_guard lock(mutex_);
+    dropped = buffer_.size();
+    buffer_.clear();
+    return dropped;
+  }
   io_->loop.call([&] {
     read_buffered();
     const std::lock_guard lock(mutex_);
@@ -180,6 +221,13 @@ void OutputReader::finish() {
 }
 
 void OutputReader::stop() {
+  if (read_in_waits_) {
+    if (stopped_here_) return;
+    stopped_here_ = true;
+    read_here();
+    capture_->flush();
+    return;
+  }
   std::future<void> stopped;
   io_->loop.call([&] {
     if (!io_->started || io_->stopping) return;
@@ -206,6 +254,7 @@ void OutputReader::on_read(const std::uint8_t* data, std::size_t n, Timestamp rx
     answered = answer_count_ > before;
   }
   capture_->flush();
+  if (read_in_waits_) return;  // nobody waits on another thread
   cv_.notify_all();
   if (answered && io_->on_answer) io_->on_answer();
 }
@@ -277,6 +326,17 @@ void OutputReader::note_malformed(protocols::ByteSpan bytes, const std::string& 
 }
 
 bool OutputReader::wait_for(std::uint64_t tag, Timestamp deadline, std::size_t count) {
+  if (read_in_waits_ && !stopped_here_) {
+    for (;;) {
+      read_here();
+      {
+        const std::lock_guard lock(mutex_);
+        if (store_->by_tag.count(tag) >= count) return true;
+      }
+      if (monotonic_now() >= deadline) return false;
+      poll_line(deadline);
+    }
+  }
   std::unique_lock lock(mutex_);
   for (;;) {
     if (store_->by_tag.count(tag) >= count) return true;

@@ -46,6 +46,10 @@ class OutputReader {
   OutputReader& operator=(const OutputReader&) = delete;
 
   void start();
+  /// Lockstep: the event loop does not read the line; the thread in wait_for() reads it
+  /// itself (so do stop() and drop_unfinished()), one thread hand-over less per trigger. The
+  /// answer callback (set_on_answer) is then never called. Before start().
+  void read_in_waits();
   /// Moves the t0 its times count from (before the DUT answered anything).
   void set_t0(Timestamp t0);
   /// Stops reading after reading what is already buffered.
@@ -82,7 +86,15 @@ class OutputReader {
   /// Counts a malformed piece of output, and keeps it while it is one of the first few.
   void note_malformed(protocols::ByteSpan bytes, const std::string& why, Timestamp rx);
 
+  /// read_in_waits(): reads what the line holds now, on the calling thread.
+  void read_here();
+  /// read_in_waits(): waits on the line (poll) until deadline, or until it has news.
+  void poll_line(Timestamp deadline);
+
   int fd_;
+  bool read_in_waits_ = false;
+  bool stopped_here_ = false;  ///< read_in_waits(): stop() was called
+  std::mutex read_mutex_;      ///< read_in_waits(): one reader of the line at a time
   CaptureFile* capture_;
   Timestamp t0_;
   std::unique_ptr<EventLoop> own_loop_;  ///< when not given one
