@@ -3,6 +3,7 @@
 // form). Private to nav_reports.
 #pragma once
 
+#include <limits>
 #include <map>
 #include <string>
 #include <vector>
@@ -11,6 +12,9 @@
 #include "plot_spec.hpp"
 
 namespace nav::reports::detail {
+
+/// A point a plot leaves out (uPlot draws a gap).
+inline constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 /// A section of the report with its plots, in page order.
 struct PlotSection {

@@ -13,7 +13,6 @@
 namespace nav::reports::detail {
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr int kBinsPerDecade = 8;
 
 json vline(double x, const std::string& label, const char* c) {

@@ -11,8 +11,6 @@
 namespace nav::reports::detail {
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
 struct Columns {
   std::vector<double> t, n, e, d;
 };
