@@ -168,17 +168,19 @@ void OutputReader::read_buffered() {
   }
 }
 
-void OutputReader::read_here() {
+void OutputReader::read_here(bool until_drained) {
   const std::lock_guard lock(read_mutex_);
   std::array<std::uint8_t, 4096> chunk;
   for (;;) {
     const ssize_t n = ::read(fd_, chunk.data(), chunk.size());
     if (n <= 0) break;  // EAGAIN: drained; EIO: no writer at the moment
     on_read(chunk.data(), static_cast<std::size_t>(n), monotonic_now());
+    // A short read took what the line held: the next poll says when there is more.
+    if (!until_drained && static_cast<std::size_t>(n) < chunk.size()) break;
   }
 }
 
-void OutputReader::poll_line(Timestamp deadline) {
+bool OutputReader::poll_line(Timestamp deadline) {
   const Timestamp now = monotonic_now();
   int ms = 0;
   if (now < deadline) {
@@ -188,10 +190,12 @@ void OutputReader::poll_line(Timestamp deadline) {
   }
   pollfd p{fd_, POLLIN, 0};
   const int r = ::poll(&p, 1, ms);
-  if (r > 0 && (p.revents & POLLIN) == 0 && ms > 0) {
+  if (r > 0 && (p.revents & POLLIN) != 0) return true;
+  if (r > 0 && ms > 0) {
     // No writer (a hang-up): nothing to wait on, so wait the time out instead of spinning.
     (void)::poll(nullptr, 0, ms);
   }
+  return false;
 }
 
 std::size_t OutputReader::drop_unfinished() {
@@ -253,8 +257,9 @@ void OutputReader::on_read(const std::uint8_t* data, std::size_t n, Timestamp rx
     consume(rx);
     answered = answer_count_ > before;
   }
+  // Lockstep's capture is flushed when the reader stops (one write per answer saved).
+  if (read_in_waits_) return;  // and nobody waits on another thread
   capture_->flush();
-  if (read_in_waits_) return;  // nobody waits on another thread
   cv_.notify_all();
   if (answered && io_->on_answer) io_->on_answer();
 }
@@ -327,14 +332,19 @@ void OutputReader::note_malformed(protocols::ByteSpan bytes, const std::string& 
 
 bool OutputReader::wait_for(std::uint64_t tag, Timestamp deadline, std::size_t count) {
   if (read_in_waits_ && !stopped_here_) {
+    // Per answer: one poll() and one read(), the fewest system calls a wait can make.
+    const auto answered = [&] {
+      const std::lock_guard lock(mutex_);
+      return store_->by_tag.count(tag) >= count;
+    };
     for (;;) {
-      read_here();
-      {
-        const std::lock_guard lock(mutex_);
-        if (store_->by_tag.count(tag) >= count) return true;
+      if (answered()) return true;
+      if (poll_line(deadline)) {
+        read_here(false);
+      } else if (monotonic_now() >= deadline) {
+        read_here(true);  // a read also takes what the kernel is still handing over
+        return answered();
       }
-      if (monotonic_now() >= deadline) return false;
-      poll_line(deadline);
     }
   }
   std::unique_lock lock(mutex_);

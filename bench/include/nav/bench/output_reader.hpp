@@ -86,10 +86,12 @@ class OutputReader {
   /// Counts a malformed piece of output, and keeps it while it is one of the first few.
   void note_malformed(protocols::ByteSpan bytes, const std::string& why, Timestamp rx);
 
-  /// read_in_waits(): reads what the line holds now, on the calling thread.
-  void read_here();
-  /// read_in_waits(): waits on the line (poll) until deadline, or until it has news.
-  void poll_line(Timestamp deadline);
+  /// read_in_waits(): reads what the line holds now, on the calling thread: until read()
+  /// finds nothing, or (not until_drained) up to a read shorter than the buffer.
+  void read_here(bool until_drained = true);
+  /// read_in_waits(): waits on the line (poll) at most 20 ms and until deadline; true when
+  /// it has bytes to read.
+  bool poll_line(Timestamp deadline);
 
   int fd_;
   bool read_in_waits_ = false;
