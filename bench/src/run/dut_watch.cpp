@@ -19,6 +19,13 @@ using namespace std::chrono_literals;
 
 constexpr Duration kWatchPeriod = 10ms;  // how often the watchdog looks at the DUTs
 
+
+/// The DUT's NOTIFY_SOCKET: its own, or none. One inherited from a service manager that
+/// started the bench is never the DUT's to use.
+std::string notify_environment(const Vehicle& veh) {
+  return veh.ready ? veh.ready->environment() : std::string("NOTIFY_SOCKET=");
+}
+
 }  // namespace
 
 /// The watchdog's timer, on the event loop.
@@ -135,17 +142,12 @@ void DutWatch::start(const std::vector<BenchLine>& lines, const std::filesystem:
     veh.argv = argv_of(v, lines, dir);
     // The primary's DUT log and output capture keep their single-vehicle names.
     const std::string log_name = v == 0 ? "dut.log" : "dut-" + veh.name + ".log";
-    // Always a NOTIFY_SOCKET of its own: one inherited from a service manager that started
-    // the bench is not the DUT's to use.
-    std::vector<std::string> env;
     if (!veh.dut->witness) {
       if (auto notice = ReadyNotice::open()) {
         veh.ready = std::make_unique<ReadyNotice>(std::move(*notice));
-        env.push_back(veh.ready->environment());
       }
     }
-    if (env.empty()) env.emplace_back("NOTIFY_SOCKET=");
-    auto dut = DutProcess::start(veh.argv, (dir / log_name).string(), env);
+    auto dut = DutProcess::start(veh.argv, (dir / log_name).string(), {notify_environment(veh)});
     if (!dut) {
       throw std::runtime_error(v == 0 ? dut.error().detail
                                       : "peer '" + veh.name + "': " + dut.error().detail);
@@ -339,8 +341,7 @@ bool DutWatch::power_on(std::uint32_t v, const DutRestart& r) {
     std::fclose(fp);
   }
   RestartRecord& rec = veh.restarts.back();
-  auto dut = DutProcess::start(
-      veh.argv, log, {veh.ready ? veh.ready->environment() : std::string("NOTIFY_SOCKET=")});
+  auto dut = DutProcess::start(veh.argv, log, {notify_environment(veh)});
   if (!dut) {
     crashed_ = true;
     veh.failed = true;

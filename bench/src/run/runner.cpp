@@ -187,9 +187,13 @@ reports::RunRecord play_run(const Scenario& sc, const VehicleTruths& truths,
   Duration startup{0};
   for (const auto& veh : watch.vehicles()) startup = std::max(startup, veh.dut->startup);
   Timestamp t0 = monotonic_now() + startup;
-  reactive.set_t0(t0);
-  can.set_t0(t0);
-  wires.set_t0(t0);
+  const auto set_t0 = [&](Timestamp t) {
+    t0 = t;
+    reactive.set_t0(t0);
+    can.set_t0(t0);
+    wires.set_t0(t0);
+  };
+  set_t0(t0);
   realtime.set_origin(t0);
   watch.start(lines, dir, t0, log, o.log_limit);
   loop.try_realtime_priorities();
@@ -212,10 +216,7 @@ reports::RunRecord play_run(const Scenario& sc, const VehicleTruths& truths,
     return false;
   });
   if (all_ready && monotonic_now() < t0) {
-    t0 = monotonic_now();
-    reactive.set_t0(t0);
-    can.set_t0(t0);
-    wires.set_t0(t0);
+    set_t0(monotonic_now());
     watch.set_t0(t0);
   }
   if (watch.ok() && !g_interrupted) {
