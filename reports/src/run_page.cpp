@@ -148,6 +148,11 @@ std::string identity(const RunFolder& f) {
                                                   : "<code>" + html_escape(detail::argv_text(argv)) + "</code>");
   h += detail::kv_row("DUT executable", detail::text_or_missing(get_string(dut, "executable")));
   h += detail::kv_row("DUT SHA-256", sha_html(dut));
+  // The files its arguments name (its configuration), each with its SHA-256.
+  for (const auto& file : get_array(dut, "files")) {
+    h += detail::kv_row("DUT file", detail::text_or_missing(get_string(file, "path")) + "<br>" +
+                                        sha_html(file));
+  }
   h += detail::kv_row("DUT status", detail::text_or_missing(get_string(dut, "status")));
   h += detail::kv_row("Host", detail::text_or_missing(get_string(host, "name")));
   h += detail::kv_row("Kernel", detail::text_or_missing(get_string(host, "kernel")));

@@ -25,6 +25,13 @@ json stats_json(const Stats& s) {
 
 json string_or_null(const std::string& s) { return s.empty() ? json(nullptr) : json(s); }
 
+/// A DUT's configuration files: [{"path", "sha256"}, ...] in the order its arguments name them.
+json files_json(const std::vector<DutFile>& files) {
+  json out = json::array();
+  for (const auto& f : files) out.push_back({{"path", f.path}, {"sha256", string_or_null(f.sha256)}});
+  return out;
+}
+
 /// max, rms and final value of an error over a vehicle's aligned samples; null when none.
 template <typename Value>
 json error_figures(const std::vector<AlignedSample>& a, Value value) {
@@ -126,6 +133,7 @@ void write_summary(const RunRecord& r, const std::string& dir) {
   j["dut"] = {{"command", r.dut_command},
               {"executable", string_or_null(r.dut_executable)},
               {"sha256", string_or_null(r.dut_sha256)},
+              {"files", files_json(r.dut_files)},
               {"status", r.dut_status},
               {"triggers_sent", r.triggers_sent},
               {"answers", r.answers},
@@ -193,6 +201,7 @@ void write_summary(const RunRecord& r, const std::string& dir) {
                           {"dut", {{"command", p.dut_command},
                                    {"executable", string_or_null(p.dut_executable)},
                                    {"sha256", string_or_null(p.dut_sha256)},
+                                   {"files", files_json(p.dut_files)},
                                    {"status", p.dut_status},
                                    {"triggers_sent", p.triggers_sent},
                                    {"answers", p.answers}}}});

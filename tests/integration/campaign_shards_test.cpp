@@ -2,11 +2,13 @@
 // A campaign as units of work: the same campaign run locally, in two shards merged, and index
 // by index from its plan (as Slurm array tasks would, SLURM_ARRAY_TASK_ID) gives the same
 // table; merge refuses missing and disagreeing results and writes nothing; a campaign run
-// again skips what is done; the DUT's command line gets the run's {seed}.
+// again skips what is done and runs again what a changed DUT configuration file makes stale;
+// the DUT's command line gets the run's {seed}.
 #include <stdlib.h>
 
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <string>
 #include <vector>
@@ -119,6 +121,16 @@ TEST_F(NavbenchCampaignShards, LocalShardsMergedAndIndexTasksGiveTheSameTable) {
   EXPECT_NE(conflict.err.find("index 1 (it-campaign-seeded-s1) disagrees"), std::string::npos)
       << conflict.err;
   EXPECT_FALSE(fs::exists(dir / "conflict"));
+  // The same with one DUT configuration file of another content: refused, and said so.
+  fs::copy(dir / "s2", dir / "s2-config", fs::copy_options::recursive);
+  const fs::path config = dir / "s2-config" / "runs" / "it-campaign-seeded-s1" / "result.json";
+  auto c = load_json(config);
+  c["inputs"]["dut_files_sha256"][0][0] = std::string(64, 'f');
+  std::ofstream(config) << c.dump(2);
+  const auto configs = run_navbench({"campaign", "merge", "s2", "s2-config", "-o", "conflict"}, dir);
+  EXPECT_EQ(configs.exit_code, 2) << configs.err;
+  EXPECT_NE(configs.err.find("DUT configuration differs"), std::string::npos) << configs.err;
+  EXPECT_FALSE(fs::exists(dir / "conflict"));
 
   // Results of one plan from several folders that agree merge; another plan is refused.
   const auto three = run_navbench({"campaign", "merge", "s1", "tasks", "local", "-o", "m3"}, dir);
@@ -153,6 +165,35 @@ TEST_F(NavbenchCampaignShards, RunningACampaignAgainSkipsWhatIsDoneAndRunsWhatIs
   const auto other = run_navbench({"campaign", source_path(kSeeded), "--seeds", "4", "-o", "c"}, dir);
   EXPECT_EQ(other.exit_code, 2);
   EXPECT_NE(other.err.find("holds another campaign's plan"), std::string::npos) << other.err;
+}
+
+TEST_F(NavbenchCampaignShards, AChangedDutConfigurationIsRunAgain) {
+  // The scenario and the navd configuration it names ({scenario_dir}), copied to be changed.
+  const auto dir = fresh_dir("campaign-config");
+  fs::copy_file(source_path(kSeeded), dir / "seeded_dut.yaml");
+  const fs::path config = dir / "navd-default.yaml";
+  fs::copy_file(source_path("tests/integration/scenarios/campaign/navd-default.yaml"), config);
+  const std::vector<std::string> cmd{"campaign", "seeded_dut.yaml", "--seeds", "2", "-o", "c"};
+  const auto first = run_navbench(cmd, dir);
+  ASSERT_EQ(first.exit_code, 0) << first.err;
+  const auto summary = load_json(dir / "c" / "runs" / "it-campaign-seeded-s1" / "summary.json");
+  ASSERT_EQ(summary["dut"]["files"].size(), 1U) << summary["dut"].dump();
+  EXPECT_EQ(fs::path(summary["dut"]["files"][0]["path"].get<std::string>()).filename(),
+            "navd-default.yaml");
+  const auto result = load_json(dir / "c" / "runs" / "it-campaign-seeded-s1" / "result.json");
+  EXPECT_EQ(result["inputs"]["dut_files_sha256"][0][0], summary["dut"]["files"][0]["sha256"]);
+
+  const auto same = run_navbench(cmd, dir);
+  ASSERT_EQ(same.exit_code, 0) << same.err;
+  EXPECT_NE(same.err.find("2 of 2 runs done already, 0 to run"), std::string::npos) << same.err;
+
+  std::ofstream(config, std::ios::app) << "# changed\n";
+  const auto changed = run_navbench(cmd, dir);
+  ASSERT_EQ(changed.exit_code, 0) << changed.err;
+  EXPECT_NE(changed.err.find("0 of 2 runs done already, 2 to run"), std::string::npos)
+      << changed.err;
+  const auto rerun = load_json(dir / "c" / "runs" / "it-campaign-seeded-s1" / "result.json");
+  EXPECT_NE(rerun["inputs"]["dut_files_sha256"], result["inputs"]["dut_files_sha256"]);
 }
 
 TEST_F(NavbenchCampaignShards, TheDutCommandGetsTheRunsSeed) {

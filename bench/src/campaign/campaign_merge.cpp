@@ -53,6 +53,7 @@ std::string outcome(const CampaignResult& r) {
 std::string difference(const CampaignResult& a, const CampaignResult& b) {
   if (a.inputs.scenario_sha256 != b.inputs.scenario_sha256) return "scenario file differs";
   if (a.inputs.dut_sha256 != b.inputs.dut_sha256) return "DUT program differs";
+  if (a.inputs.dut_files_sha256 != b.inputs.dut_files_sha256) return "DUT configuration differs";
   if (a.inputs.navbench_version != b.inputs.navbench_version) {
     return "navbench " + a.inputs.navbench_version + " vs " + b.inputs.navbench_version;
   }
@@ -141,12 +142,19 @@ int merge_campaign(const MergeOptions& o) {
   // says nothing.
   for (std::size_t c = 0; c < plan->cells(); ++c) {
     std::set<std::vector<std::string>> duts;
+    std::set<std::vector<std::vector<std::string>>> configs;
     for (std::size_t i = c; i < by_index.size(); i += plan->cells()) {
-      if (by_index[i]) duts.insert(by_index[i]->result.inputs.dut_sha256);
+      if (!by_index[i]) continue;
+      duts.insert(by_index[i]->result.inputs.dut_sha256);
+      configs.insert(by_index[i]->result.inputs.dut_files_sha256);
     }
     if (duts.size() > 1) {
       problems.push_back("scenario " + plan->cell_name(c) + ": its results were made with " +
                          std::to_string(duts.size()) + " different DUT programs");
+    }
+    if (configs.size() > 1) {
+      problems.push_back("scenario " + plan->cell_name(c) + ": its results were made with " +
+                         std::to_string(configs.size()) + " different DUT configurations");
     }
   }
   if (versions.size() > 1) {

@@ -28,6 +28,7 @@ nlohmann::ordered_json result_json(const CampaignResult& r) {
                  {"variant", r.inputs.variant.empty() ? nlohmann::ordered_json(nullptr)
                                                       : nlohmann::ordered_json(r.inputs.variant)},
                  {"dut_sha256", r.inputs.dut_sha256},
+                 {"dut_files_sha256", r.inputs.dut_files_sha256},
                  {"navbench_version", r.inputs.navbench_version}};
   j["exit_code"] = r.exit_code;
   j["verdict"] = r.verdict;
@@ -73,6 +74,19 @@ Result<CampaignResult> result_from_json(const nlohmann::json& j, const std::stri
     if (!d.is_string()) return bad("\"dut_sha256\" holds a non-string");
     r.inputs.dut_sha256.push_back(d.get<std::string>());
   }
+  // Absent from results written before the DUTs' files were hashed: none (such a result then
+  // differs from one that names files, and is run again).
+  if (const auto& files = json_at(in, "dut_files_sha256"); !files.is_null()) {
+    if (!files.is_array()) return bad("\"dut_files_sha256\" is not an array");
+    for (const auto& per_dut : files) {
+      if (!per_dut.is_array()) return bad("\"dut_files_sha256\" holds a non-array");
+      auto& hashes = r.inputs.dut_files_sha256.emplace_back();
+      for (const auto& h : per_dut) {
+        if (!h.is_string()) return bad("\"dut_files_sha256\" holds a non-string");
+        hashes.push_back(h.get<std::string>());
+      }
+    }
+  }
   r.inputs.navbench_version = json_at(in, "navbench_version").get<std::string>();
   r.exit_code = json_at(j, "exit_code").get<int>();
   r.verdict = json_at(j, "verdict").get<std::string>();
@@ -109,13 +123,15 @@ bool same_result(const CampaignResult& a, const CampaignResult& b) {
 
 RunInputs current_inputs(const CampaignPlan& plan, std::size_t i,
                          const std::string& scenario_sha256,
-                         const std::vector<std::string>& dut_sha256) {
+                         const std::vector<std::string>& dut_sha256,
+                         const std::vector<std::vector<std::string>>& dut_files_sha256) {
   RunInputs in;
   in.scenario_sha256 = scenario_sha256;
   in.seed = plan.seed_of(i);
   in.mode = time_mode_name(plan.mode);
   in.variant = plan.variant_name(i);
   in.dut_sha256 = dut_sha256;
+  in.dut_files_sha256 = dut_files_sha256;
   in.navbench_version = navbench_version();
   return in;
 }

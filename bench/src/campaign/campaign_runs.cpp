@@ -39,21 +39,40 @@ bool remove_path(const fs::path& p, std::error_code& ec) {
   return !ec;
 }
 
+/// Calls f with each DUT object a run's summary.json holds, the primary's first.
+template <typename F>
+void for_each_dut(const nlohmann::json& summary, F f) {
+  if (const auto d = summary.find("dut"); d != summary.end() && d->is_object()) f(*d);
+  if (const auto peers = summary.find("peers"); peers != summary.end() && peers->is_array()) {
+    for (const auto& p : *peers) {
+      if (p.is_object() && p.contains("dut") && p["dut"].is_object()) f(p["dut"]);
+    }
+  }
+}
+
+std::string string_at(const nlohmann::json& o, const char* key) {
+  const auto s = o.find(key);
+  return s != o.end() && s->is_string() ? s->get<std::string>() : std::string();
+}
+
 /// The DUT executables' SHA-256 a run's summary.json names, the primary's first.
 std::vector<std::string> dut_sha256_of(const nlohmann::json& summary) {
   std::vector<std::string> out;
-  const auto sha = [](const nlohmann::json& dut) {
-    const auto s = dut.find("sha256");
-    return s != dut.end() && s->is_string() ? s->get<std::string>() : std::string();
-  };
-  if (const auto d = summary.find("dut"); d != summary.end() && d->is_object()) {
-    out.push_back(sha(*d));
-  }
-  if (const auto peers = summary.find("peers"); peers != summary.end() && peers->is_array()) {
-    for (const auto& p : *peers) {
-      if (p.is_object() && p.contains("dut") && p["dut"].is_object()) out.push_back(sha(p["dut"]));
+  for_each_dut(summary, [&](const nlohmann::json& dut) { out.push_back(string_at(dut, "sha256")); });
+  return out;
+}
+
+/// Per DUT, the SHA-256 of the files its arguments named ("files"), the primary's first.
+std::vector<std::vector<std::string>> dut_files_sha256_of(const nlohmann::json& summary) {
+  std::vector<std::vector<std::string>> out;
+  for_each_dut(summary, [&](const nlohmann::json& dut) {
+    auto& hashes = out.emplace_back();
+    const auto files = dut.find("files");
+    if (files == dut.end() || !files->is_array()) return;
+    for (const auto& f : *files) {
+      if (f.is_object()) hashes.push_back(string_at(f, "sha256"));
     }
-  }
+  });
   return out;
 }
 
@@ -97,6 +116,7 @@ Result<std::vector<ScenarioInputs>> plan_inputs(const CampaignPlan& plan) {
     auto sc = preflight_scenario(s.file, v.name, v.program);
     if (!sc) return tl::unexpected(sc.error());
     in.dut_sha256 = dut_sha256s(*sc);
+    in.dut_files_sha256 = dut_file_sha256s(*sc);
     out.push_back(std::move(in));
   }
   return out;
@@ -179,6 +199,7 @@ IndexEnd finish_index(const CampaignPlan& plan, std::size_t i, const fs::path& r
       }
       r.checks = run_checks_from_summary(j);
       r.inputs.dut_sha256 = dut_sha256_of(j);
+      r.inputs.dut_files_sha256 = dut_files_sha256_of(j);
       const auto seed = j.find("seed");
       if (seed == j.end() || !seed->is_number_unsigned() ||
           seed->get<std::uint64_t>() != plan.seed_of(i)) {

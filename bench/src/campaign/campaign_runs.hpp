@@ -35,11 +35,12 @@ struct IndexChild {
 };
 
 /// The inputs every index of a plan has now, per cell (scenario and variant): its scenario
-/// file's SHA-256 and its DUTs'.
+/// file's SHA-256, its DUTs' and those of the files its DUTs' arguments name.
 /// An error (exit 2) when a scenario file changed since the plan was made, or no longer loads.
 struct ScenarioInputs {
   std::string sha256;
   std::vector<std::string> dut_sha256;
+  std::vector<std::vector<std::string>> dut_files_sha256;
 };
 Result<std::vector<ScenarioInputs>> plan_inputs(const CampaignPlan& plan);
 

@@ -133,6 +133,7 @@ reports::RunRecord make_run_record(const RunFacts& f, const RunIdentity& id) {
   rec.stopped_at_s = in.stopped_at_s;
   rec.dut_command = primary.argv;
   if (!id.dut_executables.empty()) std::tie(rec.dut_executable, rec.dut_sha256) = id.dut_executables[0];
+  if (!id.dut_files.empty()) rec.dut_files = id.dut_files[0];
   rec.dut_status = dut_status;
   rec.triggers_sent = primary.triggers_sent;
   rec.answers = in.answers.size();
@@ -187,6 +188,7 @@ reports::RunRecord make_run_record(const RunFacts& f, const RunIdentity& id) {
     if (v < id.dut_executables.size()) {
       std::tie(peer.dut_executable, peer.dut_sha256) = id.dut_executables[v];
     }
+    if (v < id.dut_files.size()) peer.dut_files = id.dut_files[v];
     peer.dut_status = veh.status;
     peer.triggers_sent = veh.triggers_sent;
     peer.answers = veh.reader->answer_count();

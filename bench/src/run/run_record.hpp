@@ -45,6 +45,8 @@ struct RunIdentity {
   std::string host, kernel;
   /// Per vehicle: the DUT program started and its SHA-256 (empty when unreadable).
   std::vector<std::pair<std::string, std::string>> dut_executables;
+  /// Per vehicle: the files its DUT's arguments name (dut_argument_files).
+  std::vector<std::vector<reports::DutFile>> dut_files;
 };
 
 /// Judges the primary vehicle, aligns every vehicle's solutions, and gathers devices, faults,

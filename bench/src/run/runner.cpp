@@ -17,6 +17,7 @@
 
 #include <signal.h>
 #include <sys/resource.h>
+#include <sys/stat.h>
 
 #include <algorithm>
 #include <atomic>
@@ -234,7 +235,10 @@ reports::RunRecord play_run(const Scenario& sc, const VehicleTruths& truths,
   const HostIdentity host = host_identity();
   id.host = host.name;
   id.kernel = host.kernel;
-  for (const auto& veh : watch.vehicles()) id.dut_executables.push_back(executable_identity(veh.argv));
+  for (const auto& veh : watch.vehicles()) {
+    id.dut_executables.push_back(executable_identity(veh.argv));
+    id.dut_files.push_back(dut_argument_files(veh.argv));
+  }
   const RunFacts facts{sc,  devices, lines, streams, watch, reactive, can,
                        log, wires.suppressed(), t0, g_interrupted.load(),
                        o.witness ? &witness : nullptr};
@@ -328,6 +332,26 @@ std::vector<std::string> dut_sha256s(const Scenario& sc) {
   for (std::size_t v = 0; v <= sc.peers.size(); ++v) {
     const auto& dut = v == 0 ? sc.dut : sc.peers[v - 1].dut;
     out.push_back(executable_identity(dut.command).second);
+  }
+  return out;
+}
+
+std::vector<reports::DutFile> dut_argument_files(const std::vector<std::string>& argv) {
+  std::vector<reports::DutFile> out;
+  for (std::size_t i = 1; i < argv.size(); ++i) {
+    struct stat st {};
+    if (::stat(argv[i].c_str(), &st) != 0 || !S_ISREG(st.st_mode)) continue;
+    out.push_back({argv[i], reports::sha256_file(argv[i]).value_or("")});
+  }
+  return out;
+}
+
+std::vector<std::vector<std::string>> dut_file_sha256s(const Scenario& sc) {
+  std::vector<std::vector<std::string>> out;
+  for (std::size_t v = 0; v <= sc.peers.size(); ++v) {
+    const auto& dut = v == 0 ? sc.dut : sc.peers[v - 1].dut;
+    auto& hashes = out.emplace_back();
+    for (const auto& f : dut_argument_files(dut.command)) hashes.push_back(f.sha256);
   }
   return out;
 }

@@ -210,7 +210,8 @@ CampaignResult a_result() {
   r.index = 3;
   r.scenario = "beta";
   r.run_name = "beta-s6";
-  r.inputs = {std::string(64, 'a'), 6, "lockstep", "", {std::string(64, 'b')}, "0.1.0-1-gabc"};
+  r.inputs = {std::string(64, 'a'), 6,   "lockstep", "", {std::string(64, 'b')},
+              {{std::string(64, 'd')}}, "0.1.0-1-gabc"};
   r.exit_code = 1;
   r.verdict = "FAIL";
   r.endpoint_error_m = 0.123456789012345;
@@ -230,6 +231,21 @@ TEST(CampaignResult, ReadsBackAsWritten) {
   nlohmann::json broken = nlohmann::json::parse(result_json(r).dump());
   broken["inputs"].erase("dut_sha256");
   EXPECT_FALSE(result_from_json(broken, "result.json"));
+  nlohmann::json bad_files = nlohmann::json::parse(result_json(r).dump());
+  bad_files["inputs"]["dut_files_sha256"] = {"not a list per DUT"};
+  const auto refused = result_from_json(bad_files, "result.json");
+  ASSERT_FALSE(refused);
+  EXPECT_NE(refused.error().detail.find("dut_files_sha256"), std::string::npos);
+}
+
+TEST(CampaignResult, OneWrittenBeforeTheDutsFilesWereHashedNamesNoneAndDiffers) {
+  const CampaignResult r = a_result();
+  nlohmann::json older = nlohmann::json::parse(result_json(r).dump());
+  older["inputs"].erase("dut_files_sha256");
+  const auto back = result_from_json(older, "result.json");
+  ASSERT_TRUE(back) << back.error().detail;
+  EXPECT_TRUE(back->inputs.dut_files_sha256.empty());
+  EXPECT_FALSE(same_result(*back, r));  // so a campaign runs it again
 }
 
 TEST(CampaignResult, SameMeansSameInputsAndOutcomeWhereverItRan) {
@@ -242,6 +258,9 @@ TEST(CampaignResult, SameMeansSameInputsAndOutcomeWhereverItRan) {
   CampaignResult other_dut = r;
   other_dut.inputs.dut_sha256 = {std::string(64, 'c')};
   EXPECT_FALSE(same_result(r, other_dut));
+  CampaignResult other_config = r;
+  other_config.inputs.dut_files_sha256 = {{std::string(64, 'e')}};
+  EXPECT_FALSE(same_result(r, other_config));
   CampaignResult other_value = r;
   other_value.endpoint_error_m = 0.123456789012346;
   EXPECT_FALSE(same_result(r, other_value));

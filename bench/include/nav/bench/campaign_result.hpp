@@ -31,6 +31,9 @@ struct RunInputs {
   std::string mode;                     ///< "lockstep" or "realtime"
   std::string variant;                  ///< the DUT variant's name; empty: none
   std::vector<std::string> dut_sha256;  ///< per vehicle, the primary first
+  /// Per vehicle, the SHA-256 of the files its DUT's arguments name (its configuration), in
+  /// argument order; compared by content only, so results made in other folders agree.
+  std::vector<std::vector<std::string>> dut_files_sha256;
   std::string navbench_version;
   bool operator==(const RunInputs&) const = default;
 };
@@ -73,10 +76,12 @@ Result<CampaignResult> read_result(const std::filesystem::path& folder);
 bool same_result(const CampaignResult& a, const CampaignResult& b);
 
 /// The inputs index i of the plan has now: the scenario file's SHA-256 as it is now, the
-/// seed, the mode, the DUT executables' SHA-256 as a run would start them now (dut_sha256 of
-/// that scenario, computed once by the caller), this navbench's version.
+/// seed, the mode, the DUT executables' SHA-256 as a run would start them now and those of
+/// the files their arguments name (dut_sha256s and dut_file_sha256s of that scenario, computed
+/// once by the caller), this navbench's version.
 RunInputs current_inputs(const CampaignPlan& plan, std::size_t i,
                          const std::string& scenario_sha256,
-                         const std::vector<std::string>& dut_sha256);
+                         const std::vector<std::string>& dut_sha256,
+                         const std::vector<std::vector<std::string>>& dut_files_sha256);
 
 }  // namespace nav::bench

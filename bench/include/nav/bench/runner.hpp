@@ -19,6 +19,7 @@
 
 #include "nav/bench/capture_file.hpp"
 #include "nav/bench/scenario.hpp"
+#include "nav/reports/run_record.hpp"
 
 namespace nav::bench {
 
@@ -65,5 +66,12 @@ Result<bool> apply_variant(Scenario& sc, const std::string& variant,
 /// The SHA-256 of every vehicle's DUT program (the primary's first) as a run would start it
 /// now; "" for one that cannot be found or read.
 std::vector<std::string> dut_sha256s(const Scenario& sc);
+
+/// The files a DUT's arguments name (argv[1...]: each that is a regular file's path, such as
+/// its configuration), with their SHA-256, in argument order. Device lines (character
+/// devices), missing paths and anything else are not files here.
+std::vector<reports::DutFile> dut_argument_files(const std::vector<std::string>& argv);
+/// Per vehicle (the primary first), the SHA-256 of the files its DUT's arguments name.
+std::vector<std::vector<std::string>> dut_file_sha256s(const Scenario& sc);
 
 }  // namespace nav::bench

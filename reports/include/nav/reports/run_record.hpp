@@ -151,6 +151,14 @@ struct FaultRow {
   std::size_t messages_affected = 0;  ///< messages removed or altered
 };
 
+/// A file a DUT's command names (an argument that is a regular file's path: its
+/// configuration), and its hex SHA-256.
+struct DutFile {
+  std::string path;
+  std::string sha256;
+  bool operator==(const DutFile&) const = default;
+};
+
 /// A further vehicle of the run (scenario `peers:`) and how its DUT did. Checks are judged on
 /// the primary vehicle only.
 struct PeerRow {
@@ -158,6 +166,7 @@ struct PeerRow {
   std::vector<std::string> dut_command;  ///< argv as started
   std::string dut_executable{};          ///< the program started (resolved path)
   std::string dut_sha256{};              ///< hex SHA-256 of that file; empty if unreadable
+  std::vector<DutFile> dut_files{};      ///< the files its arguments name, in their order
   std::string dut_status;                ///< as RunRecord::dut_status
   std::size_t triggers_sent = 0, answers = 0;  ///< answers: solutions received
 };
@@ -244,6 +253,7 @@ struct RunRecord {
   std::vector<std::string> dut_command;
   std::string dut_executable;       ///< the program started (resolved path)
   std::string dut_sha256;           ///< hex SHA-256 of that file; empty if unreadable
+  std::vector<DutFile> dut_files;   ///< the files its arguments name, in their order
   std::string dut_status;           ///< e.g. "alive", "exited with status 1 at t=0.3 s"
   std::size_t triggers_sent = 0, answers = 0, unmatched_answers = 0, malformed_output = 0;
   std::vector<MalformedOutput> malformed_examples;  ///< the first malformed pieces of output
