@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 // The DUT restart fault (dut.faults: restart): navd killed mid-run and started again, in
 // lockstep (reproducible, its recovery in scenario time) and in realtime (the gap not counted
-// as deadline misses, a recovery bound that fails).
+// as deadline misses, a recovery bound that fails); a lockstep restart goes on once the new
+// DUT says it is ready.
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
@@ -69,6 +70,25 @@ TEST(NavbenchRestart, InLockstepTheDutIsKilledStartedAgainAndItsRecoveryReproduc
   ASSERT_EQ(again.exit_code, 0) << again.out << again.err;
   EXPECT_EQ(slurp(dir / "a" / "estimate.tum"), slurp(dir / "b" / "estimate.tum"));
   EXPECT_EQ(summary(dir / "b")["dut"]["restarts"], restarts);
+}
+
+// With dut.startup 60 s, a lockstep restart goes on once the new navd says READY=1 (as at the
+// first start), not a minute later, and the run is the same bit for bit.
+TEST(NavbenchRestart, InLockstepTheRunGoesOnOnceTheRestartedDutSaysItIsReady) {
+  const auto dir = fresh_dir("restart-ready");
+  std::string text = slurp(source_path(kScenario));
+  text = std::regex_replace(text, std::regex("  trigger: ahrs\n"),
+                            "  trigger: ahrs\n  startup: 60 s\n");
+  ASSERT_NE(text.find("startup: 60 s"), std::string::npos);
+  std::ofstream(dir / "slow-start.yaml") << text;
+  const auto r = run_navbench({"run", (dir / "slow-start.yaml").string(), "--out", "slow"}, dir);
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_LT(r.wall_s, 30.0) << r.out;  // neither the first start nor the restart waited 60 s
+  const auto plain = run_navbench({"run", source_path(kScenario), "--out", "plain"}, dir);
+  ASSERT_EQ(plain.exit_code, 0) << plain.out << plain.err;
+  EXPECT_EQ(slurp(dir / "slow" / "estimate.tum"), slurp(dir / "plain" / "estimate.tum"));
+  EXPECT_EQ(summary(dir / "slow")["dut"]["restarts"], summary(dir / "plain")["dut"]["restarts"]);
+  EXPECT_EQ(count(slurp(dir / "slow" / "dut.log"), "navd: running"), 2u);
 }
 
 TEST(NavbenchRestart, InRealtimeTheGapIsNoDeadlineMissAndATightRecoveryBoundFails) {

@@ -178,6 +178,15 @@ bool DutWatch::all_ready() {
   });
 }
 
+bool DutWatch::ready_after_restart() {
+  bool ready = false;
+  loop_.call([&] {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    ready = !failed_ && all_ready();
+  });
+  return ready;
+}
+
 void DutWatch::set_t0(Timestamp t0) {
   t0_ = t0;
   for (auto& veh : vehicles_) {
@@ -341,6 +350,7 @@ bool DutWatch::power_on(std::uint32_t v, const DutRestart& r) {
     std::fclose(fp);
   }
   RestartRecord& rec = veh.restarts.back();
+  if (veh.ready) veh.ready->expect_again();
   auto dut = DutProcess::start(veh.argv, log, {notify_environment(veh)});
   if (!dut) {
     crashed_ = true;

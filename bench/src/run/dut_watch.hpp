@@ -105,6 +105,9 @@ class DutWatch {
 
   /// Whether every DUT has said it is ready (ReadyNotice; reads what they sent). On the loop.
   bool all_ready();
+  /// From the player, after restarts_due() started a DUT again: whether every DUT has said it
+  /// is ready (the restarted ones since their restart). Goes to the loop.
+  bool ready_after_restart();
   /// Moves the run's t0 (before anything was sent): a lockstep run starts once every DUT is
   /// ready, before the end of its dut.startup.
   void set_t0(Timestamp t0);

@@ -37,6 +37,9 @@ class ReadyNotice {
   /// with a line "READY=1" (other assignments, e.g. STATUS=…, are read and ignored).
   bool read(pid_t group);
   bool ready() const { return ready_; }
+  /// The DUT is started again (a restart fault): its new process's READY=1 is awaited; what
+  /// the one before sent no longer counts (nor would its process group).
+  void expect_again() { ready_ = false; }
 
  private:
   ReadyNotice(int fd, std::string address) : fd_(fd), address_(std::move(address)) {}

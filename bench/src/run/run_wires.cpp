@@ -16,6 +16,7 @@ namespace {
 using namespace std::chrono_literals;
 
 constexpr Duration kWaitSlice = 10ms;      // a wait for the DUT looks at stop and the watchdog
+constexpr Duration kReadyPoll = 2ms;       // a restart's wait looks whether the DUT is ready
 constexpr Duration kProgressPeriod = 10s;  // progress lines on long runs
 
 }  // namespace
@@ -137,11 +138,13 @@ void RunWires::progress(Duration scenario_t) {
 void RunWires::restarts_due(Duration t) {
   const Duration startup = p_.watch->restarts_due(t);
   if (startup <= Duration{0}) return;
-  // As at the first start: the DUT opens its ports before anything more is written.
+  // As at the first start: the DUT opens its ports before anything more is written, and the
+  // wait ends early once it said it is ready (sd_notify; a DUT that does not say waits it all).
   const Timestamp end = monotonic_now() + startup;
   for (Timestamp now = monotonic_now(); now < end && !*p_.stop && p_.watch->ok();
        now = monotonic_now()) {
-    p_.reactive->news().wait_until(std::min(end, now + kWaitSlice), *p_.stop);
+    if (p_.watch->ready_after_restart()) break;
+    p_.reactive->news().wait_until(std::min(end, now + kReadyPoll), *p_.stop);
   }
 }
 
