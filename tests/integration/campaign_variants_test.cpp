@@ -98,6 +98,23 @@ TEST(NavbenchCampaignVariants, AScenarioThatNeedsAVariantIsRefusedWithoutOne) {
             std::string::npos)
       << missing.err;
   EXPECT_FALSE(fs::exists(dir / "c"));
+  // A variant whose configuration file ({scenario_dir}/navd-{variant}.yaml) is not there is
+  // named before anything runs, by campaign and by run alike.
+  const auto no_config = run_navbench({"campaign", source_path(kVariant), "--variant", "default",
+                                       "--variant", "nosuch", "--seeds", "1", "-o", "c"},
+                                      dir);
+  EXPECT_EQ(no_config.exit_code, 2);
+  EXPECT_NE(no_config.err.find("navd-nosuch.yaml': no such file (made with {variant}) (variant "
+                               "nosuch)"),
+            std::string::npos)
+      << no_config.err;
+  EXPECT_FALSE(fs::exists(dir / "c"));
+  const auto run_no_config =
+      run_navbench({"run", source_path(kVariant), "--variant", "nosuch", "-o", "r", "-q"}, dir);
+  EXPECT_EQ(run_no_config.exit_code, 2);
+  EXPECT_NE(run_no_config.err.find("navd-nosuch.yaml': no such file"), std::string::npos)
+      << run_no_config.err;
+  EXPECT_FALSE(fs::exists(dir / "r"));
 }
 
 }  // namespace

@@ -294,11 +294,12 @@ Result<bool> apply_variant(Scenario& sc, const std::string& variant,
   constexpr std::string_view kKey = "{variant}";
   for (std::size_t v = 0; v <= sc.peers.size(); ++v) {
     auto& command = v == 0 ? sc.dut.command : sc.peers[v - 1].dut.command;
+    const std::string key =
+        v == 0 ? "dut.command" : "peers[" + std::to_string(v - 1) + "].dut.command";
     for (auto& a : command) {
+      const bool holds_variant = a.find(kKey) != std::string::npos;
       for (auto at = a.find(kKey); at != std::string::npos; at = a.find(kKey, at)) {
         if (variant.empty()) {
-          const std::string key =
-              v == 0 ? "dut.command" : "peers[" + std::to_string(v - 1) + "].dut.command";
           return fail(ErrorCode::kInvalidArgument,
                       sc.file + ": " + key + ": '" + a +
                           "' holds {variant}: give the variant (navbench run --variant NAME, "
@@ -306,6 +307,14 @@ Result<bool> apply_variant(Scenario& sc, const std::string& variant,
         }
         a.replace(at, kKey.size(), variant);
         at += variant.size();
+      }
+      // A path made with the variant (its configuration, say) must be there: a missing one
+      // is named now, not by every run's DUT failing to start.
+      std::error_code ec;
+      if (holds_variant && a.find('/') != std::string::npos && a.find("{port:") == std::string::npos &&
+          !std::filesystem::exists(a, ec)) {
+        return fail(ErrorCode::kNotFound,
+                    sc.file + ": " + key + ": '" + a + "': no such file (made with {variant})");
       }
     }
   }
