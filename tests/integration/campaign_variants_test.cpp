@@ -79,6 +79,17 @@ TEST(NavbenchCampaignVariants, TheSameProgramTwiceShowsNoDifferenceAndPasses) {
   EXPECT_EQ(summary["dut"]["command"][0], navd);
 }
 
+TEST(NavbenchCampaignVariants, APlanCountsItsRunsAsScenariosTimesVariantsTimesSeeds) {
+  const auto dir = fresh_dir("campaign-variants-plan");
+  const auto plan = run_navbench({"campaign", "plan", source_path(kVariant), "--variant", "default",
+                                  "--variant", "stiff", "--seeds", "1", "-o", "p"},
+                                 dir);
+  ASSERT_EQ(plan.exit_code, 0) << plan.err;
+  EXPECT_NE(plan.err.find(": 2 runs (indices 0 to 1: 1 scenario x 2 variants x 1 seed)"),
+            std::string::npos)
+      << plan.err;
+}
+
 TEST(NavbenchCampaignVariants, AScenarioThatNeedsAVariantIsRefusedWithoutOne) {
   const auto dir = fresh_dir("campaign-variants-none");
   const auto run = run_navbench({"run", source_path(kVariant), "-o", "r", "-q"}, dir);

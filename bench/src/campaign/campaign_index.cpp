@@ -155,12 +155,15 @@ int write_campaign_plan(const PlanOptions& o) {
                    "navbench: campaign plan: Kubernetes: %s/kubernetes/submit.sh applies it\n",
                    out.c_str());
     }
+    const std::string variants =
+        plan->variants.empty() ? std::string()
+                               : " x " + std::to_string(plan->variants.size()) + " variants";
     std::fprintf(stderr,
-                 "navbench: campaign plan: %s: %zu runs (indices 0 to %zu: %zu scenario%s x %llu "
-                 "seeds)\n",
+                 "navbench: campaign plan: %s: %zu runs (indices 0 to %zu: %zu scenario%s%s x "
+                 "%llu seed%s)\n",
                  (out / "plan.json").c_str(), plan->size(), plan->size() - 1,
-                 plan->scenarios.size(), plan->scenarios.size() == 1 ? "" : "s",
-                 static_cast<unsigned long long>(plan->seeds));
+                 plan->scenarios.size(), plan->scenarios.size() == 1 ? "" : "s", variants.c_str(),
+                 static_cast<unsigned long long>(plan->seeds), plan->seeds == 1 ? "" : "s");
   }
   return kExitPass;
 }

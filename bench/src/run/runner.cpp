@@ -308,10 +308,11 @@ Result<bool> apply_variant(Scenario& sc, const std::string& variant,
         a.replace(at, kKey.size(), variant);
         at += variant.size();
       }
-      // A path made with the variant (its configuration, say) must be there: a missing one
-      // is named now, not by every run's DUT failing to start.
+      // A file beside the scenario made with the variant (its configuration, say) must be
+      // there: a missing one is named now, not by every run's DUT failing to start. (Paths
+      // elsewhere may be the DUT's outputs: left to it.)
       std::error_code ec;
-      if (holds_variant && a.find('/') != std::string::npos && a.find("{port:") == std::string::npos &&
+      if (holds_variant && !sc.dir.empty() && a.rfind(sc.dir + "/", 0) == 0 &&
           !std::filesystem::exists(a, ec)) {
         return fail(ErrorCode::kNotFound,
                     sc.file + ": " + key + ": '" + a + "': no such file (made with {variant})");
