@@ -18,6 +18,7 @@
 // serial line or the output hangs up, 2 on bad usage, 3 when a port cannot be opened.
 #include <fcntl.h>
 #include <poll.h>
+#include <systemd/sd-daemon.h>
 #include <termios.h>
 #include <unistd.h>
 
@@ -111,6 +112,8 @@ int main(int argc, char** argv) {
                                                                : output_path.c_str());
     return 3;
   }
+  // Ready (docs/dut-contract.md §1): a lockstep run starts now, not after its whole startup.
+  sd_notify(0, "READY=1");
   std::uint64_t lines = 0, frames = 0, seq = 0;
   for (;;) {
     pollfd p[2] = {{can->fd(), POLLIN, 0}, {serial, POLLIN, 0}};
