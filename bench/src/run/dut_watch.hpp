@@ -105,6 +105,8 @@ class DutWatch {
 
   /// Whether every DUT has said it is ready (ReadyNotice; reads what they sent). On the loop.
   bool all_ready();
+  /// How often a lockstep startup or restart looks whether every DUT said it is ready.
+  static constexpr Duration kReadyPoll = std::chrono::milliseconds(2);
   /// From the player, after restarts_due() started a DUT again: whether every DUT has said it
   /// is ready (the restarted ones since their restart). Goes to the loop.
   bool ready_after_restart();

@@ -16,7 +16,6 @@ namespace {
 using namespace std::chrono_literals;
 
 constexpr Duration kWaitSlice = 10ms;      // a wait for the DUT looks at stop and the watchdog
-constexpr Duration kReadyPoll = 2ms;       // a restart's wait looks whether the DUT is ready
 constexpr Duration kProgressPeriod = 10s;  // progress lines on long runs
 
 }  // namespace
@@ -144,7 +143,7 @@ void RunWires::restarts_due(Duration t) {
   for (Timestamp now = monotonic_now(); now < end && !*p_.stop && p_.watch->ok();
        now = monotonic_now()) {
     if (p_.watch->ready_after_restart()) break;
-    p_.reactive->news().wait_until(std::min(end, now + kReadyPoll), *p_.stop);
+    p_.reactive->news().wait_until(std::min(end, now + DutWatch::kReadyPoll), *p_.stop);
   }
 }
 

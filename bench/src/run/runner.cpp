@@ -17,7 +17,6 @@
 
 #include <signal.h>
 #include <sys/resource.h>
-#include <sys/stat.h>
 
 #include <algorithm>
 #include <atomic>
@@ -66,8 +65,6 @@ std::atomic<bool> g_interrupted{false};  ///< set by SIGINT/SIGTERM (the event l
 /// signal came.
 Wakeup g_news;
 
-/// How often a lockstep startup looks whether every DUT said it is ready.
-constexpr Duration kReadyPoll = 2ms;
 
 /// The program argv[0] names, resolved as the DUT was started, and its SHA-256.
 std::pair<std::string, std::string> executable_identity(const std::vector<std::string>& argv) {
@@ -207,7 +204,7 @@ reports::RunRecord play_run(const Scenario& sc, const VehicleTruths& truths,
   // also ends it once every DUT said it is ready (sd_notify): its scenario time 0 is then.
   const bool virtual_time = sc.mode == TimeMode::kLockstep;
   bool all_ready = false;
-  loop.wait_until(t0, virtual_time ? kReadyPoll : 100ms, [&] {
+  loop.wait_until(t0, virtual_time ? DutWatch::kReadyPoll : 100ms, [&] {
     const Timestamp now = monotonic_now();
     if (g_interrupted || !watch.ok()) return true;
     if (virtual_time && watch.all_ready()) return all_ready = true;
@@ -349,8 +346,8 @@ std::vector<std::string> dut_sha256s(const Scenario& sc) {
 std::vector<reports::DutFile> dut_argument_files(const std::vector<std::string>& argv) {
   std::vector<reports::DutFile> out;
   for (std::size_t i = 1; i < argv.size(); ++i) {
-    struct stat st {};
-    if (::stat(argv[i].c_str(), &st) != 0 || !S_ISREG(st.st_mode)) continue;
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(argv[i], ec)) continue;
     out.push_back({argv[i], reports::sha256_file(argv[i]).value_or("")});
   }
   return out;
