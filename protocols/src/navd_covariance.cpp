@@ -26,14 +26,6 @@ constexpr const char* kBlockNames[] = {"position", "velocity", "attitude"};
 constexpr const char* kEntryNames[] = {"sigma_1", "sigma_2", "sigma_3",
                                        "rho_12",  "rho_13",  "rho_23"};
 
-/// σ with six significant digits and no exponent: 12.3457, 0.000123457, 0.
-std::string format_sigma(double sigma) {
-  if (sigma == 0.0) return "0";
-  const int magnitude = static_cast<int>(std::floor(std::log10(sigma)));
-  const int decimals = std::clamp(5 - magnitude, 0, 12);  // 239 characters at most
-  return nmea::format_fixed(sigma, decimals);
-}
-
 void encode_block(const std::optional<CovarianceBlock>& b, std::vector<std::string>& f) {
   if (!b) {
     f.insert(f.end(), kBlockFields, std::string{});
@@ -41,7 +33,7 @@ void encode_block(const std::optional<CovarianceBlock>& b, std::vector<std::stri
   }
   for (const double s : b->sigma) {
     NAV_ENSURE(std::isfinite(s) && s >= 0.0, "PNVBCOV sigma must be finite and >= 0");
-    f.push_back(format_sigma(s));
+    f.push_back(nmea::format_significant(s));  // 239 characters at most
   }
   for (const double r : b->rho) {
     NAV_ENSURE(std::isfinite(r) && std::fabs(r) <= 1.0, "PNVBCOV rho must be in [-1, 1]");

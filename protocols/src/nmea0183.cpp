@@ -198,6 +198,14 @@ std::string format_fixed(double value, int decimals) {
   return s;
 }
 
+std::string format_significant(double value, int digits) {
+  NAV_ENSURE(std::isfinite(value), "format_significant of a non-finite value");
+  NAV_ENSURE(digits >= 1 && digits <= 17, "format_significant digits out of range");
+  if (value == 0.0) return "0";
+  const int magnitude = static_cast<int>(std::floor(std::log10(std::fabs(value))));
+  return format_fixed(value, std::clamp(digits - 1 - magnitude, 0, 12));
+}
+
 std::optional<double> parse_number(std::string_view field) {
   if (field.empty()) return std::nullopt;
   double v = 0.0;

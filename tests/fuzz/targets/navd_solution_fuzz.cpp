@@ -1,10 +1,12 @@
 // SPDX-License-Identifier: MIT
-// The DUT's `$PNVBSOL` and `$PNVBCOV` output (docs/dut-contract.md) as the bench's OutputReader
-// reads it: NMEA framing up to navd::kMaxSentence, whatever the DUT writes, in any reads, then
-// navd::decode or navd::decode_covariance. A solution that decodes is a fixed point of
-// encode(decode(.)); a covariance is one after its first round (σ to six significant digits).
+// The DUT's `$PNVBSOL`, `$PNVBCOV` and `$PNVBINN` output (docs/dut-contract.md) as the bench's
+// OutputReader reads it: NMEA framing up to navd::kMaxSentence, whatever the DUT writes, in any
+// reads, then navd::decode, decode_covariance or decode_innovation. A solution that decodes is a fixed point
+// of encode(decode(.)); a covariance or an innovation is one after its first round (six
+// significant digits).
 #include "fuzz_support.hpp"
 #include "nav/protocols/navd_covariance.hpp"
+#include "nav/protocols/navd_innovation.hpp"
 #include "nav/protocols/navd_solution.hpp"
 
 namespace {
@@ -36,9 +38,32 @@ void check_covariance(const nmea::Sentence& s) {
   NAV_ENSURE(covariance_round(once) == once, "encode(decode(.)) moves: " + once);
 }
 
+/// encode(decode(.)) of an innovation sentence's text.
+std::string innovation_round(const std::string& text) {
+  const auto again =
+      nav::fuzz::parse_exactly<nmea::Sentence, &parse_output>(nav::fuzz::bytes_of(text));
+  const auto decoded = navd::decode_innovation(again);
+  NAV_ENSURE(decoded.has_value(), "an encoded innovation does not decode: " + text);
+  return navd::encode(*decoded);
+}
+
+void check_innovation(const nmea::Sentence& s) {
+  const auto in = navd::decode_innovation(s);
+  if (!in) return;
+  const std::string text = navd::encode(*in);
+  if (text.size() > navd::kMaxSentence) return;  // huge ν written out: no sentence
+  const std::string once = innovation_round(text);
+  if (once.size() > navd::kMaxSentence) return;
+  NAV_ENSURE(innovation_round(once) == once, "encode(decode(.)) moves: " + once);
+}
+
 void check(const nmea::Sentence& s) {
   if (s.talker + s.type == navd::kCovarianceAddress) {
     check_covariance(s);
+    return;
+  }
+  if (s.talker + s.type == navd::kInnovationAddress) {
+    check_innovation(s);
     return;
   }
   if (s.talker + s.type != navd::kAddress) return;

@@ -124,6 +124,10 @@ bool parse_time_of_day(std::string_view field, UtcTime& t);
 /// Formats a finite value with `decimals` digits after the point; "-0.00" becomes "0.00".
 std::string format_fixed(double value, int decimals);
 
+/// Formats a finite value with `digits` significant digits and no exponent (12.3457,
+/// -0.000123457, 0), at most 12 decimals; "-0" becomes "0".
+std::string format_significant(double value, int digits = 6);
+
 /// Parses a whole field as a finite decimal number; nullopt if empty, partial or not finite.
 std::optional<double> parse_number(std::string_view field);
 
