@@ -87,6 +87,17 @@ void write_timeseries(const RunRecord& r, const std::string& dir) {
   }
 }
 
+void write_innovations(const RunRecord& r, const std::string& dir) {
+  // Only when the DUT stated innovations ($PNVBINN): most DUTs state none.
+  if (r.vehicles.empty() || r.vehicles.front().innovations.empty()) return;
+  OutputFile f(dir, "innovations.csv");
+  auto& o = *f;
+  o << "t_s,source,dof,nis\n";
+  for (const auto& i : r.vehicles.front().innovations) {
+    o << i.t_s << ',' << i.source << ',' << i.dof << ',' << i.nis << '\n';
+  }
+}
+
 void write_latency(const RunRecord& r, const std::string& dir) {
   {
     OutputFile f(dir, "latency.csv");

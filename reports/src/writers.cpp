@@ -10,6 +10,7 @@ void write_reports(const RunRecord& r, const std::string& dir) {
   detail::write_junit(r, dir);
   detail::write_trajectories(r, dir);
   detail::write_timeseries(r, dir);
+  detail::write_innovations(r, dir);
   detail::write_latency(r, dir);
   detail::write_device_rates(r, dir);
 }

@@ -12,6 +12,7 @@ void write_summary(const RunRecord& r, const std::string& dir);       // summary
 void write_junit(const RunRecord& r, const std::string& dir);         // junit_xml.cpp
 void write_trajectories(const RunRecord& r, const std::string& dir);  // run_tables.cpp
 void write_timeseries(const RunRecord& r, const std::string& dir);    // run_tables.cpp
+void write_innovations(const RunRecord& r, const std::string& dir);   // run_tables.cpp
 void write_latency(const RunRecord& r, const std::string& dir);       // run_tables.cpp
 void write_device_rates(const RunRecord& r, const std::string& dir);  // run_tables.cpp
 

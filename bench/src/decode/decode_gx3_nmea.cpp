@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
-// `navbench decode` for the MicroStrain GX3 and NMEA 0183 (with navd's $PNVBSOL, $PNVBCOV and
-// $PNVBPOS):
+// `navbench decode` for the MicroStrain GX3 and NMEA 0183 (with navd's $PNVBSOL, $PNVBCOV,
+// $PNVBINN and $PNVBPOS):
 // one codec message in, one JSON object out (decode/decode_builders.hpp).
 #include <charconv>
 #include <cstdio>
@@ -10,6 +10,7 @@
 #include "nav/protocols/microstrain_gx3.hpp"
 #include "nav/protocols/navd_modem.hpp"
 #include "nav/protocols/navd_covariance.hpp"
+#include "nav/protocols/navd_innovation.hpp"
 #include "nav/protocols/navd_solution.hpp"
 #include "nav/protocols/nmea0183.hpp"
 
@@ -114,6 +115,20 @@ json nmea_json(const protocols::nmea::Sentence& s) {
     j["position_m"] = block(cov->position);
     j["velocity_mps"] = block(cov->velocity);
     j["attitude_deg"] = block(cov->attitude);
+    return j;
+  }
+  if (s.talker + s.type == protocols::navd::kInnovationAddress) {
+    auto in = protocols::navd::decode_innovation(s);
+    if (!in) return json{{"type", "error"}, {"error", in.error().detail}};
+    const auto m = static_cast<std::size_t>(in->dof);
+    j["trigger_tag"] = in->trigger_tag;
+    j["source"] = in->source;
+    j["m"] = in->dof;
+    j["nu"] = std::vector<double>(in->nu.begin(), in->nu.begin() + static_cast<std::ptrdiff_t>(m));
+    j["sigma"] =
+        std::vector<double>(in->sigma.begin(), in->sigma.begin() + static_cast<std::ptrdiff_t>(m));
+    j["rho"] = std::vector<double>(in->rho.begin(),
+                                   in->rho.begin() + static_cast<std::ptrdiff_t>(m * (m - 1) / 2));
     return j;
   }
   if (s.talker + s.type == protocols::navd_modem::kAddress) {

@@ -30,6 +30,20 @@ std::optional<double> nees(const Vec3& e, const Mat3& P) {
   return e.dot(ldlt.solve(e));
 }
 
+std::optional<double> nis(const protocols::navd::Innovation& i) {
+  using MatS = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 4, 4>;
+  using VecS = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 4, 1>;
+  if (i.dof < 1 || i.dof > protocols::navd::kMaxInnovationDof) return std::nullopt;
+  const auto S4 = protocols::navd::covariance_of(i);
+  const MatS S = Eigen::Map<const Eigen::Matrix<double, 4, 4, Eigen::RowMajor>>(S4.data())
+                     .topLeftCorner(i.dof, i.dof);
+  const VecS nu = Eigen::Map<const Eigen::Vector4d>(i.nu.data()).head(i.dof);
+  if (!S.allFinite() || !nu.allFinite()) return std::nullopt;
+  const Eigen::LDLT<MatS> ldlt(S);
+  if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().array() > 0.0).all()) return std::nullopt;
+  return nu.dot(ldlt.solve(nu));  // NIS = νᵀ S⁻¹ ν
+}
+
 Vec3 attitude_error_vector(const Quat& truth_q_nb, const Quat& est_q_nb) {
   const Eigen::AngleAxisd aa(truth_q_nb * est_q_nb.conjugate());
   double angle = aa.angle();
@@ -42,8 +56,11 @@ Vec3 attitude_error_vector(const Quat& truth_q_nb, const Quat& est_q_nb) {
 }
 
 std::pair<double, double> average_nees_bounds(std::size_t k, int n, double a) {
-  const auto dof = static_cast<double>(k) * n;
-  const boost::math::chi_squared_distribution<double> chi2(dof);
+  return average_chi2_bounds(k, static_cast<double>(k) * n, a);
+}
+
+std::pair<double, double> average_chi2_bounds(std::size_t k, double d, double a) {
+  const boost::math::chi_squared_distribution<double> chi2(d);
   const auto kk = static_cast<double>(k);
   return {boost::math::quantile(chi2, a) / kk, boost::math::quantile(chi2, 1.0 - a) / kk};
 }
@@ -56,14 +73,70 @@ void fill_nees(reports::AlignedSample& s) {
   }
 }
 
+namespace {
+
+/// Not judged: nothing stated (or the run stopped before `after`).
+void not_judged(reports::CheckResult& r, const std::string& why,
+                std::optional<double> stopped_at_s) {
+  r.judged = false;
+  r.detail = why;
+  if (stopped_at_s && *stopped_at_s < r.after_s) {
+    r.detail = fmt("not judged: the run was stopped at t=%.2f s, before its 'after' (%.2f s)",
+                   *stopped_at_s, r.after_s);
+  }
+}
+
+/// The innovation check: the time-averaged NIS of the stated updates (of c.source, or all).
+void judge_innovations(const CheckSpec& c,
+                       const std::vector<reports::InnovationSample>& innovations,
+                       std::optional<double> stopped_at_s, reports::CheckResult& r) {
+  std::size_t k = 0;
+  double sum = 0.0, dof = 0.0;
+  for (const auto& i : innovations) {
+    if (i.t_s < r.after_s || (!c.source.empty() && i.source != c.source)) continue;
+    if (!std::isfinite(i.nis)) {  // a stated S that is no covariance: the DUT's failure
+      r.worst_t_s = i.t_s;
+      r.value = std::nan("");
+      r.detail = "the stated innovation covariance of " + i.source +
+                 fmt(" at t=%.2f s is not positive definite", i.t_s);
+      return;
+    }
+    sum += i.nis;
+    dof += i.dof;
+    ++k;
+  }
+  const std::string what = c.source.empty() ? "any measurement" : c.source;
+  if (k == 0) {
+    not_judged(r, "no innovations: the DUT stated none for " + what, stopped_at_s);
+    return;
+  }
+  const auto [lo, hi] = average_chi2_bounds(k, dof);
+  r.value = sum / static_cast<double>(k);
+  r.limit = hi;
+  r.passed = r.value >= lo && r.value <= hi;
+  r.detail = fmt("time-averaged NIS %.3f over %.0f updates of ", r.value,
+                 static_cast<double>(k)) +
+             what + fmt(" (%.3g dof on average), 95 %% bounds [%.3f, %.3f]",
+                        dof / static_cast<double>(k), lo, hi) +
+             (r.passed ? "" : r.value > hi ? ": the predicted innovation covariance is too small"
+                                           : ": the predicted innovation covariance is too large");
+}
+
+}  // namespace
+
 reports::CheckResult judge_consistency(const CheckSpec& c,
                                        const std::vector<reports::AlignedSample>& aligned,
+                                       const std::vector<reports::InnovationSample>& innovations,
                                        std::optional<double> stopped_at_s) {
   reports::CheckResult r{c.name, true, false, 0.0, 0.0, "", {}};
   r.kind = check_kind_name(c.kind);
   r.req = c.req;
   r.title = c.title;
   r.after_s = to_seconds(c.after);
+  if (c.of == "innovation") {
+    judge_innovations(c, innovations, stopped_at_s, r);
+    return r;
+  }
   const bool position = c.of == "position";
   std::size_t k = 0, with_covariance = 0;
   double sum = 0.0;
@@ -85,12 +158,7 @@ reports::CheckResult judge_consistency(const CheckSpec& c,
     ++k;
   }
   if (with_covariance == 0) {
-    r.judged = false;
-    r.detail = "no covariance: the DUT stated none for its " + c.of;
-    if (stopped_at_s && *stopped_at_s < r.after_s) {
-      r.detail = fmt("not judged: the run was stopped at t=%.2f s, before its 'after' (%.2f s)",
-                     *stopped_at_s, r.after_s);
-    }
+    not_judged(r, "no covariance: the DUT stated none for its " + c.of, stopped_at_s);
     return r;
   }
   const auto [lo, hi] = average_nees_bounds(k, 3);

@@ -146,10 +146,13 @@ Alignment align_answers(const std::vector<TriggerRecord>& triggers,
     const std::size_t named = after == sent.begin() ? sent.front() : *(after - 1);
     auto& rx = out.first_rx[named];
     if (!rx) rx = a.rx;
-    if (!a.solution.position_valid) continue;
-    if (!out.first_valid_rx[named]) out.first_valid_rx[named] = a.rx;
     const TriggerRecord& tr = triggers[named];
     const double t_s = to_seconds(tr.t_valid);
+    for (const auto& i : a.innovations) {
+      out.innovations.push_back({t_s, i.source, i.dof, detail::nis(i).value_or(std::nan(""))});
+    }
+    if (!a.solution.position_valid) continue;
+    if (!out.first_valid_rx[named]) out.first_valid_rx[named] = a.rx;
     const auto at = truth.at(t_s);
     const auto& s = a.solution;
     reports::AlignedSample al;
@@ -175,6 +178,8 @@ Alignment align_answers(const std::vector<TriggerRecord>& triggers,
   }
   std::stable_sort(out.aligned.begin(), out.aligned.end(),
                    [](const auto& x, const auto& y) { return x.t_s < y.t_s; });
+  std::stable_sort(out.innovations.begin(), out.innovations.end(),
+                   [](const auto& x, const auto& y) { return x.t_s < y.t_s; });
   return out;
 }
 
@@ -186,6 +191,7 @@ JudgeOutput judge(const JudgeInput& in) {
   detail::RestartGaps gaps = detail::restart_gaps(in, al);
   out.restarts = std::move(gaps.rows);
   out.aligned = std::move(al.aligned);
+  out.innovations = std::move(al.innovations);
   out.unmatched_answers = al.unmatched;
   const auto& first_rx = al.first_rx;
 
@@ -291,7 +297,7 @@ JudgeOutput judge(const JudgeInput& in) {
         break;
       }
       case CheckKind::kConsistency:
-        out.checks.push_back(detail::judge_consistency(c, out.aligned, in.stopped_at_s));
+        out.checks.push_back(detail::judge_consistency(c, out.aligned, out.innovations, in.stopped_at_s));
         break;
       case CheckKind::kDutAlive: {
         reports::CheckResult r = check_result(c, 1.0, "");

@@ -61,6 +61,40 @@ struct StoredAnswer {
   double covariance[3][6] = {};
 };
 
+/// One innovation as spilled, with the index of the answer it goes with.
+struct StoredInnovation {
+  std::uint64_t answer = 0;
+  std::uint64_t tag = 0;
+  char source[protocols::navd::kMaxSourceName + 1] = {};
+  std::int32_t dof = 0;
+  double nu[protocols::navd::kMaxInnovationDof] = {};
+  double sigma[protocols::navd::kMaxInnovationDof] = {};
+  double rho[6] = {};
+};
+
+StoredInnovation stored_innovation(std::uint64_t answer, const protocols::navd::Innovation& i) {
+  StoredInnovation out;
+  out.answer = answer;
+  out.tag = i.trigger_tag;
+  i.source.copy(out.source, protocols::navd::kMaxSourceName);
+  out.dof = i.dof;
+  std::copy(i.nu.begin(), i.nu.end(), out.nu);
+  std::copy(i.sigma.begin(), i.sigma.end(), out.sigma);
+  std::copy(i.rho.begin(), i.rho.end(), out.rho);
+  return out;
+}
+
+protocols::navd::Innovation innovation_of(const StoredInnovation& s) {
+  protocols::navd::Innovation out;
+  out.trigger_tag = s.tag;
+  out.source = s.source;
+  out.dof = s.dof;
+  std::copy(std::begin(s.nu), std::end(s.nu), out.nu.begin());
+  std::copy(std::begin(s.sigma), std::end(s.sigma), out.sigma.begin());
+  std::copy(std::begin(s.rho), std::end(s.rho), out.rho.begin());
+  return out;
+}
+
 using Block = std::optional<protocols::navd::CovarianceBlock>;
 
 /// The blocks of a covariance into a stored answer.
@@ -95,8 +129,9 @@ protocols::navd::SolutionCovariance stored_covariance(const StoredAnswer& a) {
 }
 
 struct OutputReader::Store {
-  explicit Store(std::string dir) : answers(std::move(dir)) {}
+  explicit Store(std::string dir) : answers(dir), innovations(std::move(dir)) {}
   detail::SpillLog<StoredAnswer> answers;
+  detail::SpillLog<StoredInnovation> innovations;
   detail::RecentCounts by_tag;  ///< answers naming each recent tag
 };
 
@@ -289,11 +324,24 @@ void OutputReader::consume(Timestamp rx) {
       }
       continue;
     }
+    if (address == protocols::navd::kInnovationAddress) {  // for the solution after it
+      auto innovation = protocols::navd::decode_innovation(s);
+      if (!innovation) {
+        note_malformed(piece, innovation.error().detail, rx);
+      } else if (pending_innovations_.size() >= kMaxPendingInnovations) {
+        note_malformed(piece, "more than " + std::to_string(kMaxPendingInnovations) +
+                                  " PNVBINN before one PNVBSOL", rx);
+      } else {
+        pending_innovations_.push_back(std::move(*innovation));
+      }
+      continue;
+    }
     if (address != protocols::navd::kAddress) continue;  // other sentences: ignored
     auto sol = protocols::navd::decode(s);
     if (!sol) {
       note_malformed(piece, sol.error().detail, rx);
       pending_covariance_.reset();
+      pending_innovations_.clear();
       continue;
     }
     ++store_->by_tag[sol->trigger_tag];
@@ -305,6 +353,12 @@ void OutputReader::consume(Timestamp rx) {
       store_covariance(*pending_covariance_, stored);
     }
     pending_covariance_.reset();
+    for (const auto& i : pending_innovations_) {  // one naming another trigger is dropped
+      if (i.trigger_tag == v.trigger_tag) {
+        store_->innovations.push_back(stored_innovation(store_->answers.size(), i));
+      }
+    }
+    pending_innovations_.clear();
     store_->answers.push_back(stored);
     ++answer_count_;
     last_answer_ = rx;
@@ -371,6 +425,8 @@ std::vector<Answer> OutputReader::answers() const {
   std::lock_guard lock(mutex_);
   std::vector<Answer> out;
   out.reserve(answer_count_);
+  const auto innovations = store_->innovations.read_all();
+  auto next_innovation = innovations.begin();
   for (const auto& a : store_->answers.read_all()) {
     Answer x;
     x.rx = a.rx;
@@ -389,6 +445,10 @@ std::vector<Answer> OutputReader::answers() const {
     v.yaw_deg = a.yaw;
     v.status.clear();
     if (a.has_covariance) x.covariance = stored_covariance(a);
+    for (; next_innovation != innovations.end() && next_innovation->answer == out.size();
+         ++next_innovation) {
+      x.innovations.push_back(innovation_of(*next_innovation));
+    }
     out.push_back(std::move(x));
   }
   return out;

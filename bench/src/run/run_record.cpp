@@ -152,9 +152,14 @@ reports::RunRecord make_run_record(const RunFacts& f, const RunIdentity& id) {
     for (const auto& s : truth.samples()) {
       track.truth.push_back({to_seconds(s.t), s.p_n, s.q_nb, s.distance_m});
     }
-    track.aligned =
-        v == 0 ? std::move(j.aligned)
-               : align_answers(veh.triggers, veh.reader->answers(), truth, sc.datum).aligned;
+    if (v == 0) {
+      track.aligned = std::move(j.aligned);
+      track.innovations = std::move(j.innovations);
+    } else {
+      auto al = align_answers(veh.triggers, veh.reader->answers(), truth, sc.datum);
+      track.aligned = std::move(al.aligned);
+      track.innovations = std::move(al.innovations);
+    }
     track.triggers_sent = veh.triggers_sent;
     track.answers = veh.reader->answer_count();
     track.dut_status = v == 0 ? dut_status : veh.status;

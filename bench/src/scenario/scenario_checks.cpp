@@ -10,6 +10,7 @@
 
 #include "devices/device_kind.hpp"
 #include "nav/common/units.hpp"
+#include "nav/protocols/navd_innovation.hpp"
 #include "scenario/quantity.hpp"
 #include "scenario/scenario_devices.hpp"
 #include "scenario/scenario_sections.hpp"
@@ -51,12 +52,23 @@ CheckSpec read_check(const Field& item, const Scenario& s) {
     case Kind::kDeadline: keys.insert(keys.end(), {"input", "max_latency", "max_misses"}); break;
     case Kind::kDutAlive: break;
     case Kind::kRestartRecovery: keys.insert(keys.end(), {"max"}); break;
-    case Kind::kConsistency: keys.insert(keys.end(), {"of", "after"}); break;
+    case Kind::kConsistency: keys.insert(keys.end(), {"of", "source", "after"}); break;
   }
   const MapReader m(item, keys);
   if (c.kind == Kind::kConsistency) {
-    c.of = m.required("of").choice<std::string>({{"position", "position"}, {"attitude", "attitude"}});
+    c.of = m.required("of").choice<std::string>(
+        {{"position", "position"}, {"attitude", "attitude"}, {"innovation", "innovation"}});
     c.name = c.of + "_consistency";
+    if (auto v = m.optional("source")) {
+      if (c.of != "innovation") v->fail("'source' names a measurement of 'of: innovation' only");
+      c.source = v->line("a measurement name as the DUT writes it in $PNVBINN", 64);
+      if (!protocols::navd::valid_source_name(c.source)) {
+        v->fail("expected a measurement name as the DUT writes it in $PNVBINN (1 to 16 of "
+                "[a-z0-9_-]), got " + quoted(c.source));
+      }
+      c.name = c.source + "_innovation_consistency";
+      std::replace(c.name.begin(), c.name.end(), '-', '_');
+    }
   }
   if (auto v = m.optional("name")) c.name = v->identifier();
   if (auto v = m.optional("req")) c.req = v->line("a requirement id such as NAV-REQ-012", 64);

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Scenario loading: the DUT's faults (restarts), the restart_recovery check, and the
-// consistency check of the covariance the DUT states.
+// consistency check of the covariance and the innovations the DUT states.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -78,9 +78,38 @@ TEST(ScenarioDutChecks, ConsistencyNamesWhatItJudgesAndIsNamedAfterIt) {
   EXPECT_EQ(s->checks[1].name, "position_consistency");
   const auto bad = load_with("consistency_of", "", "checks:\n  - {kind: consistency, of: velocity}\n");
   ASSERT_FALSE(bad);
-  EXPECT_NE(bad.error().detail.find("expected one of position, attitude, got 'velocity'"),
+  EXPECT_NE(bad.error().detail.find("expected one of position, attitude, innovation, got 'velocity'"),
             std::string::npos)
       << bad.error().detail;
+}
+
+TEST(ScenarioDutChecks, InnovationConsistencyOfEveryMeasurementOrOneByName) {
+  const auto s = load_with("innovation", "", R"(checks:
+  - {kind: consistency, of: innovation}
+  - {kind: consistency, of: innovation, source: gps-position, after: 2 s}
+)");
+  ASSERT_TRUE(s) << s.error().detail;
+  ASSERT_EQ(s->checks.size(), 2u);
+  EXPECT_EQ(s->checks[0].of, "innovation");
+  EXPECT_EQ(s->checks[0].source, "");
+  EXPECT_EQ(s->checks[0].name, "innovation_consistency");
+  EXPECT_EQ(s->checks[1].source, "gps-position");
+  EXPECT_EQ(s->checks[1].name, "gps_position_innovation_consistency");
+  const struct {
+    const char* check;
+    const char* what;
+  } refused[] = {
+      {"{kind: consistency, of: position, source: mag}",
+       "'source' names a measurement of 'of: innovation' only"},
+      {"{kind: consistency, of: innovation, source: GPS}",
+       "expected a measurement name as the DUT writes it in $PNVBINN (1 to 16 of [a-z0-9_-]), "
+       "got 'GPS'"},
+  };
+  for (const auto& r : refused) {
+    const auto bad = load_with("innovation_bad", "", std::string("checks:\n  - ") + r.check + "\n");
+    ASSERT_FALSE(bad) << r.check;
+    EXPECT_NE(bad.error().detail.find(r.what), std::string::npos) << bad.error().detail;
+  }
 }
 
 struct Refused {

@@ -79,14 +79,14 @@ TEST(Consistency, AConsistentFilterPassesAbout95PercentOfRunsAQuarterCovarianceI
   int inside = 0;
   const int runs = 1000;
   for (int r = 0; r < runs; ++r) {
-    inside += judge_consistency(c, run(rng, P, P, 100), std::nullopt).passed ? 1 : 0;
+    inside += judge_consistency(c, run(rng, P, P, 100), {}, std::nullopt).passed ? 1 : 0;
   }
   // Binomial(1000, 0.95): 95 % within ±1.4 %; ±3 % is ~4.4 sigma.
   EXPECT_GT(inside, 920);
   EXPECT_LT(inside, 980);
   int flagged = 0;
   for (int r = 0; r < 100; ++r) {
-    const auto result = judge_consistency(c, run(rng, P, 0.25 * P, 100), std::nullopt);
+    const auto result = judge_consistency(c, run(rng, P, 0.25 * P, 100), {}, std::nullopt);
     flagged += result.passed ? 0 : 1;
     if (r == 0) {
       EXPECT_NEAR(result.value, 12.0, 1.5);  // 4 × 3
@@ -104,17 +104,17 @@ TEST(Consistency, NotPositiveDefiniteFailsNoneStatedIsNotJudged) {
   c.name = "position_consistency";
   auto samples = run(rng, Mat3::Identity(), Mat3::Identity(), 10);
   samples[4].cov_p_n = Mat3::Zero();
-  const auto bad = judge_consistency(c, samples, std::nullopt);
+  const auto bad = judge_consistency(c, samples, {}, std::nullopt);
   EXPECT_TRUE(bad.judged);
   EXPECT_FALSE(bad.passed);
   EXPECT_EQ(bad.detail, "the stated position covariance at t=4.00 s is not positive definite");
   for (auto& s : samples) s.cov_p_n.reset();
-  const auto none = judge_consistency(c, samples, std::nullopt);
+  const auto none = judge_consistency(c, samples, {}, std::nullopt);
   EXPECT_FALSE(none.judged);
   EXPECT_EQ(none.detail, "no covariance: the DUT stated none for its position");
   c.of = "attitude";
   c.name = "attitude_consistency";
-  EXPECT_FALSE(judge_consistency(c, samples, std::nullopt).judged);
+  EXPECT_FALSE(judge_consistency(c, samples, {}, std::nullopt).judged);
 }
 
 }  // namespace

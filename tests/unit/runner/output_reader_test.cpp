@@ -3,7 +3,9 @@
 // the event loop (realtime), and by the thread that waits for an answer (lockstep,
 // read_in_waits()). Either way an answer ends the wait for its tag, a wait for a tag never
 // answered ends at its deadline (also when the DUT's side hung up), the capture counts from
-// t0 (set_t0 moves it), and an unfinished line is dropped by drop_unfinished().
+// t0 (set_t0 moves it), an unfinished line is dropped by drop_unfinished(), and the
+// `$PNVBINN` before a solution go with it when they name its trigger (more than the reader
+// keeps are malformed output).
 #include <fcntl.h>
 #include <unistd.h>
 
@@ -22,6 +24,7 @@
 #include "nav/bench/capture_file.hpp"
 #include "nav/bench/output_reader.hpp"
 #include "nav/common/time.hpp"
+#include "nav/protocols/navd_innovation.hpp"
 #include "nav/protocols/navd_solution.hpp"
 #include "nav/transport/pty.hpp"
 #include "run/event_loop.hpp"
@@ -138,6 +141,41 @@ TEST_P(OutputReaderTest, AnUnfinishedLineIsDropped) {
   say(solution(9));  // the next writer's first line is not glued to it
   EXPECT_TRUE(reader_->wait_for(9, monotonic_now() + 10s));
   EXPECT_EQ(reader_->malformed(), 0u);
+}
+
+std::string innovation(std::uint64_t tag, const std::string& source, double nu) {
+  protocols::navd::Innovation i;
+  i.trigger_tag = tag;
+  i.source = source;
+  i.dof = 1;
+  i.nu[0] = nu;
+  i.sigma[0] = 2.0;
+  return protocols::navd::encode(i);
+}
+
+TEST_P(OutputReaderTest, InnovationsGoWithTheSolutionNamingTheirTrigger) {
+  // Two for trigger 5, one naming another trigger (dropped), a garbled one (malformed).
+  say(innovation(5, "euler", 1.5) + innovation(4, "old", 9.0) + "$PNVBINN,5,depth,1,0.1*00\r\n" +
+      innovation(5, "depth", -0.25) + solution(5));
+  ASSERT_TRUE(reader_->wait_for(5, monotonic_now() + 10s));
+  say(solution(6));  // none
+  ASSERT_TRUE(reader_->wait_for(6, monotonic_now() + 10s));
+  // Too many before one solution: the first 64 are kept, the rest malformed.
+  std::string many;
+  for (int k = 0; k < 70; ++k) many += innovation(7, "mag", k);
+  say(many + solution(7));
+  ASSERT_TRUE(reader_->wait_for(7, monotonic_now() + 10s));
+  const auto answers = reader_->answers();
+  ASSERT_EQ(answers.size(), 3u);
+  ASSERT_EQ(answers[0].innovations.size(), 2u);
+  EXPECT_EQ(answers[0].innovations[0].source, "euler");
+  EXPECT_EQ(answers[0].innovations[0].nu[0], 1.5);
+  EXPECT_EQ(answers[0].innovations[1].source, "depth");
+  EXPECT_EQ(answers[0].innovations[1].sigma[0], 2.0);
+  EXPECT_TRUE(answers[1].innovations.empty());
+  ASSERT_EQ(answers[2].innovations.size(), 64u);
+  EXPECT_EQ(answers[2].innovations[63].nu[0], 63.0);
+  EXPECT_EQ(reader_->malformed(), 1u + 6u);
 }
 
 INSTANTIATE_TEST_SUITE_P(Ways, OutputReaderTest, ::testing::Bool(),

@@ -61,6 +61,7 @@ struct JudgeInput {
 struct JudgeOutput {
   std::vector<reports::CheckResult> checks;
   std::vector<reports::AlignedSample> aligned;
+  std::vector<reports::InnovationSample> innovations;
   std::vector<reports::LatencyRow> latency;
   reports::Stats dut_latency;
   std::size_t unmatched_answers = 0;
@@ -72,6 +73,8 @@ JudgeOutput judge(const JudgeInput& in);
 /// A vehicle's solutions matched to the triggers they name and aligned to its truth.
 struct Alignment {
   std::vector<reports::AlignedSample> aligned;  ///< valid positions, by time of validity
+  /// The innovations stated with every matched solution (a valid position or not), by time.
+  std::vector<reports::InnovationSample> innovations;
   std::vector<std::optional<Timestamp>> first_rx;  ///< per trigger: its first answer's arrival
   /// Per trigger: the arrival of its first answer with a valid position.
   std::vector<std::optional<Timestamp>> first_valid_rx;

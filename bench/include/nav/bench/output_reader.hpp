@@ -2,7 +2,8 @@
 // Reads the DUT's output port on the bench's event loop (an async_read_some after another on
 // a posix::stream_descriptor): timestamps every read (CLOCK_MONOTONIC), writes it to the
 // receive capture, and decodes `$PNVBSOL` solutions. Other threads wait for answers on a
-// condition variable. A `$PNVBCOV` goes with the `$PNVBSOL` right after it.
+// condition variable. A `$PNVBCOV` goes with the `$PNVBSOL` right after it, and so do the
+// `$PNVBINN` before them.
 #pragma once
 
 #include <condition_variable>
@@ -18,6 +19,7 @@
 #include "nav/bench/capture_file.hpp"
 #include "nav/common/time.hpp"
 #include "nav/protocols/navd_covariance.hpp"
+#include "nav/protocols/navd_innovation.hpp"
 #include "nav/protocols/navd_solution.hpp"
 #include "nav/protocols/parse.hpp"
 #include "nav/reports/run_record.hpp"
@@ -30,6 +32,8 @@ struct Answer {
   protocols::navd::Solution solution;
   /// The `$PNVBCOV` right before it naming the same trigger, when the DUT stated one.
   std::optional<protocols::navd::SolutionCovariance> covariance;
+  /// The `$PNVBINN` before it naming the same trigger, in the order received.
+  std::vector<protocols::navd::Innovation> innovations;
 };
 
 class EventLoop;
@@ -111,6 +115,9 @@ class OutputReader {
   /// The last `$PNVBCOV`, until the `$PNVBSOL` after it (which takes it when it names the
   /// same trigger).
   std::optional<protocols::navd::SolutionCovariance> pending_covariance_;
+  /// The `$PNVBINN` since the last `$PNVBSOL` (at most kMaxPendingInnovations).
+  std::vector<protocols::navd::Innovation> pending_innovations_;
+  static constexpr std::size_t kMaxPendingInnovations = 64;
   std::size_t answer_count_ = 0;
   Timestamp last_answer_{};
   std::size_t malformed_ = 0;

@@ -114,7 +114,9 @@ struct CheckSpec {
   std::string name;            ///< display name ("horizontal_error", ...)
   std::string req{};           ///< requirement id it proves (`req`, e.g. "NAV-REQ-012"), or empty
   std::string title{};         ///< the requirement's wording (`title`), or empty
-  std::string of{};            ///< consistency: "position" or "attitude"
+  std::string of{};            ///< consistency: "position", "attitude" or "innovation"
+  /// consistency of innovation: the DUT's measurement name ($PNVBINN); empty: every one.
+  std::string source{};
 };
 
 /// The scenario name of a check kind ("horizontal_error", ...).

@@ -57,6 +57,14 @@ struct AlignedSample {
   std::optional<double> nees_p, nees_att;
 };
 
+/// One measurement update the DUT stated with a solution ($PNVBINN), judged without truth.
+struct InnovationSample {
+  double t_s = 0.0;     ///< time of validity of the trigger its solution answers [s]
+  std::string source;   ///< the DUT's name of the measurement
+  int dof = 0;          ///< m, the measurement's dimension
+  double nis = 0.0;     ///< νᵀ S⁻¹ ν; NaN for an S that is not positive definite
+};
+
 /// One trigger and the DUT's answer to it.
 struct LatencyRow {
   std::uint64_t tag = 0;          ///< trigger tag the DUT echoes
@@ -185,6 +193,7 @@ struct VehicleTrack {
   std::string name;
   std::vector<TruthRow> truth;          ///< at the scenario's truth rate
   std::vector<AlignedSample> aligned;   ///< solutions with a valid position, by time
+  std::vector<InnovationSample> innovations;  ///< stated innovations, by time
   std::size_t triggers_sent = 0, answers = 0;
   std::string dut_status;
 };
