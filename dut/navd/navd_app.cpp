@@ -325,13 +325,17 @@ bool NavdApp::handle_ahrs(const protocols::gx3::AccelRateMag& m) {
     solution.status = "DEGRADED";
   }
   if (!wait_delay()) return false;
-  // Its covariance, when the navigator keeps one, right before it (the bench has it when the
-  // solution arrives).
+  // The innovations of the updates made at this sample, then its covariance when the
+  // navigator keeps one, right before it (the bench has them when the solution arrives), in
+  // one write.
   const auto cov = solution_covariance(
       m.timer_ticks, nav, gps_nav_ ? gps_nav_->attitude() : dvl_nav_->attitude(),
       gps_nav_ && gps_nav_->position_velocity() ? &*gps_nav_->position_velocity() : nullptr);
-  if (cov && solution.status != "DEGRADED") {
-    if (auto ok = out_.push(protocols::navd::encode(*cov)); !ok) {
+  std::string stated = solution_innovations(
+      m.timer_ticks, gps_nav_ ? gps_nav_->innovations() : dvl_nav_->innovations());
+  if (cov) stated += protocols::navd::encode(*cov);
+  if (!stated.empty() && solution.status != "DEGRADED") {
+    if (auto ok = out_.push(stated); !ok) {
       stop_reason_ = "output closed: " + ok.error().detail;
       return false;
     }

@@ -2,6 +2,8 @@
 // The covariance navd states for a solution (solution_covariance.hpp).
 #include "solution_covariance.hpp"
 
+#include <cstring>
+
 #include "nav/common/units.hpp"
 
 namespace nav::dut {
@@ -36,6 +38,33 @@ std::optional<protocols::navd::SolutionCovariance> solution_covariance(
   }
   if (!c.attitude && !c.position && !c.velocity) return std::nullopt;
   return c;
+}
+
+std::string solution_innovations(std::uint64_t tag,
+                                 const std::vector<estimator::Innovation>& updates) {
+  std::string out;
+  for (const auto& u : updates) {
+    if (u.dof < 1 || u.dof > estimator::Innovation::kMaxDof) continue;
+    const auto m = static_cast<Eigen::Index>(u.dof);
+    const auto nu = u.nu.head(m);
+    const auto S = u.S.topLeftCorner(m, m);
+    if (!nu.allFinite() || !S.allFinite() || (S.diagonal().array() < 0.0).any()) continue;
+    // Readable units on the wire (NIS does not depend on them).
+    const double scale = std::strcmp(u.source, "euler") == 0 ? units::rad_to_deg(1.0)
+                         : std::strcmp(u.source, "mag") == 0 ? 1e6
+                                                             : 1.0;
+    std::array<double, protocols::navd::kMaxInnovationDof> v{};
+    protocols::navd::Matrix4 s{};
+    for (Eigen::Index i = 0; i < m; ++i) {
+      v[static_cast<std::size_t>(i)] = scale * nu(i);
+      for (Eigen::Index j = 0; j < m; ++j) {
+        s[static_cast<std::size_t>(4 * i + j)] = scale * scale * 0.5 * (S(i, j) + S(j, i));
+      }
+    }
+    out += protocols::navd::encode(
+        protocols::navd::innovation_of(tag, u.source, u.dof, v, s));
+  }
+  return out;
 }
 
 }  // namespace nav::dut

@@ -3,15 +3,19 @@
 // covariance of every attitude source that keeps one (EKF, UKF, ESKF: attitude_filter.hpp) and
 // the position and velocity covariance of the GPS navigator's Kalman filter once it started.
 // Raw, complementary and Mahony sources and DVL dead reckoning keep none: no sentence, or
-// empty blocks. Pure.
+// empty blocks. And the `$PNVBINN` of each measurement update made at the sample, before it.
+// Pure.
 #pragma once
 
 #include <cstdint>
 #include <optional>
+#include <string>
+#include <vector>
 
 #include "nav/estimator/attitude_filter.hpp"
 #include "nav/estimator/navigator.hpp"
 #include "nav/protocols/navd_covariance.hpp"
+#include "nav/protocols/navd_innovation.hpp"
 
 namespace nav::dut {
 
@@ -20,5 +24,12 @@ namespace nav::dut {
 std::optional<protocols::navd::SolutionCovariance> solution_covariance(
     std::uint64_t tag, const estimator::NavSolution& nav, const estimator::AttitudeFilter& attitude,
     const estimator::PositionVelocityFilter* position_velocity);
+
+/// The `$PNVBINN` sentences of the updates made at the sample answering `tag`, one after
+/// another (empty when none): angles in degrees and fields in µT, the rest in the estimator's
+/// SI units. An update whose ν or S is not finite, or S with a negative variance, is left
+/// out.
+std::string solution_innovations(std::uint64_t tag,
+                                 const std::vector<estimator::Innovation>& updates);
 
 }  // namespace nav::dut

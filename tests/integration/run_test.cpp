@@ -60,16 +60,25 @@ TEST(NavbenchRun, RealtimeScenarioWithNavdPasses) {
   const auto out = run_navbench({"decode", "--protocol", "nmea0183", "--port", "output",
                                  (run / "capture-rx.log").string()}, dir);
   EXPECT_EQ(out.exit_code, 0) << out.err;
-  // Every solution, and the covariance navd states before each one with a position (its
-  // GPS Kalman filter's; the Mahony attitude keeps none).
-  std::size_t covariances = 0;
-  for (auto at = out.out.find(R"("type":"NVBCOV")"); at != std::string::npos;
-       at = out.out.find(R"("type":"NVBCOV")", at + 1)) {
-    ++covariances;
-  }
+  // Every solution, the covariance navd states before each one with a position (its GPS
+  // Kalman filter's; the Mahony attitude keeps none), and the innovations of its GPS updates.
+  const auto count = [&](const std::string& type) {
+    std::size_t n = 0;
+    for (auto at = out.out.find(type); at != std::string::npos; at = out.out.find(type, at + 1)) ++n;
+    return n;
+  };
+  const std::size_t covariances = count(R"("type":"NVBCOV")");
+  const std::size_t innovations = count(R"("type":"NVBINN")");
   EXPECT_GT(covariances, 0u);
-  EXPECT_NE(out.err.find(": " + std::to_string(s["dut"]["answers"].get<std::size_t>() + covariances) +
-                         " messages, 0 errors"), std::string::npos) << out.err;
+  EXPECT_GT(innovations, 0u);
+  EXPECT_NE(out.err.find(": " +
+                         std::to_string(s["dut"]["answers"].get<std::size_t>() + covariances +
+                                        innovations) +
+                         " messages, 0 errors"),
+            std::string::npos)
+      << out.err;
+  EXPECT_NE(out.out.find(R"("source":"gps-position","m":3,"nu":[)"), std::string::npos);
+  EXPECT_TRUE(fs::exists(run / "innovations.csv"));
   EXPECT_NE(out.out.find(R"({"type":"NVBSOL","talker":"P","input":"AHRS")"), std::string::npos);
   EXPECT_NE(out.out.find(R"("position_m":{"sigma":[)"), std::string::npos);
   EXPECT_NE(out.out.find(R"("attitude_deg":null)"), std::string::npos);

@@ -42,6 +42,7 @@ void DvlNavigator::add_depth(double depth_m) {
 void DvlNavigator::on_ahrs(const AhrsSample& s) {
   ++stats_.ahrs_samples;
   last_status_ = AttitudeStatus::kOk;  // until this sample's attitude step says otherwise
+  innovations_.clear();
   const bool finite =
       s.omega_b_radps.allFinite() && s.f_b_mps2.allFinite() && s.m_b_tesla.allFinite();
   if (!finite) {
@@ -94,6 +95,7 @@ void DvlNavigator::on_ahrs(const AhrsSample& s) {
     in.dv_b_mps2 = dv_b_;
   }
   last_status_ = attitude_->step(in);  // (D1)
+  innovations_ = attitude_->innovations();
 
   if (fresh) {
     v_n_ = attitude_->q_nb() * *v_b_;  // v_n = R_nb v_b (D2)

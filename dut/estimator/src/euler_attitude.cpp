@@ -266,6 +266,7 @@ bool EulerEkf::initialise(const Vec3& f_b_mps2, const Vec3& m_b_tesla) {
 }
 
 AttitudeStatus EulerEkf::step(const AttitudeInput& in) {
+  innovations_.clear();
   if (!input_valid(in)) {
     return record(AttitudeStatus::kRejectedInvalid);
   }
@@ -292,6 +293,7 @@ AttitudeStatus EulerEkf::step(const AttitudeInput& in) {
     if (report.status != UpdateStatus::kFused) {
       status = worst(status, AttitudeStatus::kNumericalFault);
     }
+    if (auto i = innovation_of("euler", report)) innovations_.push_back(*i);  // [rad]
   }
 
   const Normalised nx = normalise_with_flip(x);

@@ -33,6 +33,8 @@ struct UkfPassResult {
   Mat<3, 3> P = Mat<3, 3>::Zero();
   bool clamped = false;
   bool fault = false;  ///< P_z or the updated P not PD: the caller resets P to P0
+  /// The update's innovation wrap(z − ẑ) and P_z, when it made one with a usable P_z.
+  std::optional<Innovation> innovation;
 };
 
 /// Weighted mean of angle points as w-weighted wrapped offsets from point 0, plus each
@@ -139,6 +141,7 @@ UkfPassResult ukf_pass(const UkfParams& prm, const EulerState& x, const Mat<3, 3
   const Mat<3, 3> K = P_z_ldlt.solve(P_xz_t).transpose();  // K = P_xz P_z⁻¹, P_z symmetric
   const EulerState innovation = wrap_each(*z - z_hat);      // wrap(z − ẑ)
   const EulerState x_upd = x_pred + K * innovation;         // X = X⁻ + K (z − ẑ)
+  r.innovation = innovation_of<3>("euler", innovation, P_z);  // [rad]
   Mat<3, 3> P_upd = P_pred - K * P_z * K.transpose();       // P = P⁻ − K P_z Kᵀ
   symmetrize(P_upd);
   if (!x_upd.allFinite()) {
@@ -180,6 +183,7 @@ bool EulerUkf::initialise(const Vec3& f_b_mps2, const Vec3& m_b_tesla) {
 }
 
 AttitudeStatus EulerUkf::step(const AttitudeInput& in) {
+  innovations_.clear();
   if (!input_valid(in)) {
     return record(AttitudeStatus::kRejectedInvalid);
   }
@@ -202,6 +206,7 @@ AttitudeStatus EulerUkf::step(const AttitudeInput& in) {
   if (r.clamped) {
     status = worst(status, AttitudeStatus::kSingular);
   }
+  if (r.innovation) innovations_.push_back(*r.innovation);
 
   const Normalised nx = normalise_with_flip(r.x);
   x_ = nx.x;

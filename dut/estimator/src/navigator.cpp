@@ -35,6 +35,7 @@ void Navigator::add_depth(double depth_m) { enqueue(DepthMeasurement{depth_m}); 
 void Navigator::on_ahrs(const AhrsSample& s) {
   ++stats_.ahrs_samples;
   last_status_ = AttitudeStatus::kOk;  // until this sample's attitude step says otherwise
+  innovations_.clear();
   const bool finite = s.omega_b_radps.allFinite() && s.f_b_mps2.allFinite() &&
                       s.m_b_tesla.allFinite();
   if (!finite) {
@@ -59,6 +60,8 @@ void Navigator::on_ahrs(const AhrsSample& s) {
       in.m_b_tesla = s.m_b_tesla;
       in.dt_s = dt;
       last_status_ = attitude_->step(in);
+      const auto& attitude_updates = attitude_->innovations();
+      innovations_.insert(innovations_.end(), attitude_updates.begin(), attitude_updates.end());
       if (kf_) {
         const Vec3 a_n = pv::nav_acceleration(attitude_->q_nb(), s.f_b_mps2, gravity_mps2_);
         kf_->predict(a_n, dt, params_.accel_noise_density_mps2_rthz);
@@ -111,6 +114,7 @@ void Navigator::apply(const GpsPosition& fix) {
                    params_.gps_vertical_std_m);
   const auto report = kf_->update_position(z, std_m, params_.gps_position_gate_nis);
   count(report, stats_.gps_position_fused);
+  if (auto i = innovation_of("gps-position", report)) innovations_.push_back(*i);  // [m]
   last_pos_ = report;
 }
 
@@ -127,6 +131,7 @@ void Navigator::apply(const GpsVelocity& fix) {
   const auto report = kf_->update_horizontal_velocity(z, params_.gps_velocity_std_mps,
                                                       params_.gps_velocity_gate_nis);
   count(report, stats_.gps_velocity_fused);
+  if (auto i = innovation_of("gps-velocity", report)) innovations_.push_back(*i);  // [m/s]
   last_vel_ = report;
 }
 
@@ -152,6 +157,7 @@ void Navigator::apply(const DepthMeasurement& depth) {
     case UpdateStatus::kNumericalFault: ++stats_.numerical_faults; break;
     case UpdateStatus::kRejectedGate: break;  // depth updates have no gate
   }
+  if (auto i = innovation_of("depth", report)) innovations_.push_back(*i);  // [m]
   last_depth_ = report;
 }
 

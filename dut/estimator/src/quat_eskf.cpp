@@ -175,6 +175,7 @@ Mat<3, QuatEskf::kN> QuatEskf::mag_jacobian(const Quat& q_nb, const Vec3& m_n_te
 }
 
 AttitudeStatus QuatEskf::step(const AttitudeInput& in) {
+  innovations_.clear();
   info_ = EskfStepInfo{};
   if (!finite(in) || !(in.dt_s > 0.0)) {
     return record(AttitudeStatus::kRejectedInvalid);
@@ -222,6 +223,7 @@ AttitudeStatus QuatEskf::step(const AttitudeInput& in) {
     VecN dx = VecN::Zero();
     const UpdateReport<3> report = linear_update<kN, 3>(dx, P_, y, H, R);   // (E13)
     info_.accel = report.status;
+    if (auto i = innovation_of("accel", report)) innovations_.push_back(*i);  // [m/s²]
     if (report.status == UpdateStatus::kFused) {
       inject_and_reset(dx, params_.gyro_bias_limit_radps, estimate_h_, x, P_);  // (E14)
     } else {
@@ -268,6 +270,7 @@ AttitudeStatus QuatEskf::step(const AttitudeInput& in) {
           linear_update<kN, 3>(dx, P_, y, H, R, params_.mag_gate_nis);      // (E12, E13)
       info_.mag = report.status;
       info_.mag_nis = report.nis;
+      if (auto i = innovation_of("mag", report)) innovations_.push_back(*i);  // [T]
       if (report.status == UpdateStatus::kFused) {
         inject_and_reset(dx, params_.gyro_bias_limit_radps, estimate_h_, x, P_);  // (E14)
       } else if (report.status == UpdateStatus::kRejectedGate) {

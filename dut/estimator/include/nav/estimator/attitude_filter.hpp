@@ -22,10 +22,12 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "nav/common/frames.hpp"
 #include "nav/common/result.hpp"
 #include "nav/estimator/filter_params.hpp"
+#include "nav/estimator/update_report.hpp"
 
 namespace nav::estimator {
 
@@ -111,6 +113,11 @@ class AttitudeFilter {
   /// nullopt for a source that keeps no covariance (raw, complementary, Mahony).
   virtual std::optional<Mat3> attitude_covariance_n() const { return std::nullopt; }
 
+  /// The measurement updates of the last step, for the DUT contract's `$PNVBINN` (empty for
+  /// a step that made none, and always for sources without a Kalman update: raw,
+  /// complementary, Mahony).
+  const std::vector<Innovation>& innovations() const { return innovations_; }
+
   /// Counters so far.
   const AttitudeStats& stats() const { return stats_; }
 
@@ -127,6 +134,8 @@ class AttitudeFilter {
     return s;
   }
   AttitudeStats stats_;
+  /// Filled by a step's updates; a filter that makes updates clears it as its step begins.
+  std::vector<Innovation> innovations_;
 };
 
 /// A filter of `kind` with the fields of `params` it uses (params must pass validate()).

@@ -28,6 +28,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <vector>
 
 #include "nav/common/geodesy.hpp"
 #include "nav/estimator/attitude_filter.hpp"
@@ -70,6 +71,9 @@ class DvlNavigator {
   AttitudeStatus last_attitude_status() const { return last_status_; }
   const AttitudeFilter& attitude() const { return *attitude_; }
   const DvlNavigatorStats& stats() const { return stats_; }
+  /// The attitude source's measurement updates at the last AHRS sample (dead reckoning
+  /// itself makes none).
+  const std::vector<Innovation>& innovations() const { return innovations_; }
 
   /// Largest DVL speed accepted (the NavQuest 600's ±20 kn) [m/s].
   static constexpr double kMaxDvlSpeedMps = 10.3;
@@ -89,6 +93,7 @@ class DvlNavigator {
   Vec3 p_n_ = Vec3::Zero();
   Vec3 v_n_ = Vec3::Zero();
   AttitudeStatus last_status_ = AttitudeStatus::kOk;
+  std::vector<Innovation> innovations_;
   DvlNavigatorStats stats_;
 };
 

@@ -120,6 +120,9 @@ class Navigator {
   const std::optional<UpdateReport<3>>& last_position_report() const { return last_pos_; }
   /// Report of the last GPS velocity update.
   const std::optional<UpdateReport<2>>& last_velocity_report() const { return last_vel_; }
+  /// The measurement updates of the last AHRS sample, in the order made: the attitude
+  /// source's, then the queued fixes' ("gps-position" [m], "gps-velocity" [m/s], "depth" [m]).
+  const std::vector<Innovation>& innovations() const { return innovations_; }
   /// Report of the last depth update (nullopt before the first one after anchoring).
   const std::optional<UpdateReport<1>>& last_depth_report() const { return last_depth_; }
 
@@ -148,6 +151,7 @@ class Navigator {
   std::optional<UpdateReport<3>> last_pos_;
   std::optional<UpdateReport<2>> last_vel_;
   std::optional<UpdateReport<1>> last_depth_;
+  std::vector<Innovation> innovations_;
   NavigatorStats stats_;
 };
 
