@@ -9,6 +9,7 @@
 #include <set>
 #include <sstream>
 
+#include "campaign_consistency.hpp"
 #include "html_page.hpp"
 #include "html_text.hpp"
 #include "json_get.hpp"
@@ -291,59 +292,6 @@ std::string paired_comparisons(const CampaignFolder& c) {
              "campaign exit 1.</p></section>\n";
 }
 
-/// The Monte-Carlo averaged NEES of each scenario that stated a covariance, with its bounds.
-std::string consistency(const CampaignFolder& c, json& specs, std::size_t& plot_no) {
-  const auto& nees = get_array(c.campaign, "nees");
-  if (nees.empty()) return {};
-  std::string h = "<section id=\"consistency\"><h2>Filter consistency</h2><table>\n" +
-                  detail::header_row({"scenario", "block", "runs", "mean NEES", "95 % bounds",
-                                      "time outside"});
-  std::string plots;
-  for (const auto& n : nees) {
-    const double runs = get_number(n, "runs", 0);
-    const json& bounds = member(n, "bounds");
-    const bool has = bounds.is_array() && bounds.size() == 2;
-    const double outside = get_number(n, "fraction_outside", 0.0);
-    h += detail::row(
-        {html_escape(get_string(n, "scenario", "?")), html_escape(get_string(n, "block", "?")),
-         detail::num(runs, 10),
-         has ? detail::fixed(get_number(n, "time_mean")) : html_escape(get_string(n, "text", "")),
-         has ? "[" + detail::fixed(bounds[0].get<double>()) + ", " +
-                   detail::fixed(bounds[1].get<double>()) + "]"
-             : std::string("\u2014"),
-         has ? detail::fixed(100.0 * outside, 0) + " %" : std::string("\u2014")},
-        "ttnnnn");
-    if (!has) continue;
-    json p = detail::plot_frame("plot-nees-" + std::to_string(plot_no++),
-                                get_string(n, "scenario", "?") + ": " + get_string(n, "block", "") +
-                                    " NEES, averaged over " + detail::num(runs, 10) + " runs",
-                                "time", "scenario time [s]", "NEES (3 dof)", 220);
-    p["y"]["log"] = true;
-    p["series"].push_back(detail::series_json({"mean NEES", detail::color::kEstimate}));
-    const json& series = member(n, "series");
-    p["data"] = json::array({member(series, "t_s"), member(series, "mean")});
-    // The bounds in view, however far the NEES is from them.
-    double lo = bounds[0].get<double>(), hi = bounds[1].get<double>();
-    for (const auto& v : member(series, "mean")) {
-      if (v.is_number() && v.get<double>() > 0.0) {
-        lo = std::min(lo, v.get<double>());
-        hi = std::max(hi, v.get<double>());
-      }
-    }
-    p["y"]["range"] = {lo / 1.5, hi * 1.5};
-    p["hlines"] = json::array({{{"y", bounds[0]}, {"label", "2.5 %"}, {"color", detail::color::kLimit}},
-                               {{"y", bounds[1]}, {"label", "97.5 %"}, {"color", detail::color::kLimit}}});
-    plots += detail::figure_html(p);
-    specs.push_back(std::move(p));
-  }
-  return h + "</table><p class=\"note\">The NEES eᵀP⁻¹e of the covariance the DUT stated with "
-             "each solution ($PNVBCOV), at each whole second averaged over the runs (each its "
-             "own seed), against the two-sided 95 % bounds of a consistent filter, "
-             "[χ²<sub>3N</sub>(0.025)/N, χ²<sub>3N</sub>(0.975)/N] for N runs. Above: the DUT "
-             "claims less uncertainty than it has; below: more. Reported, not judged.</p>\n"
-             "<div class=\"plots pair\">\n" + plots + "</div></section>\n";
-}
-
 std::string runs_table(const CampaignFolder& c) {
   const auto& runs = get_array(c.campaign, "runs");
   std::string h = "<section id=\"runs\"><h2>Runs</h2><table>\n" +
@@ -415,7 +363,9 @@ std::string campaign_report_html(const CampaignFolder& c) {
   if (!checks.empty()) body += "<a href=\"#campaign-checks\">campaign checks</a> ";
   if (!pairs.empty()) body += "<a href=\"#variants\">variants</a> ";
   body += "<a href=\"#comparison\">comparison</a> <a href=\"#distributions\">distributions</a> ";
-  if (!get_array(c.campaign, "nees").empty()) body += "<a href=\"#consistency\">consistency</a> ";
+  if (!get_array(c.campaign, "nees").empty() || !get_array(c.campaign, "nis").empty()) {
+    body += "<a href=\"#consistency\">consistency</a> ";
+  }
   body += "<a href=\"#runs\">runs</a></nav>\n<main>\n";
   body += identity(c) + checks + pairs + comparison(c);
   body += "<section id=\"distributions\"><h2>Distributions over the seeds</h2>\n";
@@ -444,7 +394,8 @@ std::string campaign_report_html(const CampaignFolder& c) {
     }
     body += "</div>\n";
   }
-  body += "</section>\n" + consistency(c, specs, plot_no) + runs_table(c) + "</main>\n";
+  body += "</section>\n" + detail::consistency_section(c.campaign, specs, plot_no) + runs_table(c) +
+          "</main>\n";
   return detail::render_page({"navbench campaign", body, specs});
 }
 

@@ -55,6 +55,12 @@ inline json numbers(const std::vector<double>& v, int digits = 6) {
   return a;
 }
 
+/// The range of a log axis holding [lo, hi] (both > 0), widened to whole decades: uPlot's log
+/// ticks assume decade bounds (its split loop can run away on others).
+inline json log_range(double lo, double hi) {
+  return {std::pow(10.0, std::floor(std::log10(lo))), std::pow(10.0, std::ceil(std::log10(hi)))};
+}
+
 /// A series of a plot.
 struct Series {
   Series(std::string label_, std::string color_, std::string paths_ = "linear",

@@ -196,7 +196,9 @@ Result<RunFolder> read_run_folder(const std::string& dir) {
   for (auto r : {read_optional(root / "timeseries.csv", csv({}, f.timeseries), f.has_timeseries),
                  read_optional(root / "latency.csv", csv({}, f.latency), f.has_latency),
                  read_optional(root / "lateness.csv", csv({"device"}, f.lateness), f.has_lateness),
-                 read_optional(root / "device-rates.csv", csv({"device"}, f.rates), f.has_rates)}) {
+                 read_optional(root / "device-rates.csv", csv({"device"}, f.rates), f.has_rates),
+                 read_optional(root / "innovations.csv", csv({"source"}, f.innovations),
+                               f.has_innovations)}) {
     if (!r) return tl::unexpected(r.error());
   }
 

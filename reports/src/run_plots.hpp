@@ -38,6 +38,9 @@ std::vector<Window> fault_windows(const RunFolder& f, const std::string& device 
 void add_track_plots(const RunFolder& f, RunPlots& out);
 /// DUT latency, bench lateness and device timeline plots (run_plots_timing.cpp).
 void add_timing_plots(const RunFolder& f, RunPlots& out);
+/// NEES of the stated covariance and NIS of the stated innovations, when the DUT stated any
+/// (run_plots_consistency.cpp).
+void add_consistency_plots(const RunFolder& f, RunPlots& out);
 
 /// Every plot of a run report; a plot with nothing to draw is left out (its section says so).
 RunPlots run_plots(const RunFolder& f);

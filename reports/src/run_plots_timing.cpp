@@ -285,6 +285,7 @@ bool has_data(const json& spec) {
 RunPlots run_plots(const RunFolder& f) {
   RunPlots out;
   add_track_plots(f, out);
+  add_consistency_plots(f, out);
   add_timing_plots(f, out);
   for (auto& s : out.sections) {
     std::vector<json> kept;

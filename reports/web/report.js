@@ -111,6 +111,9 @@
     ctx.lineWidth = 1.5 * ratio;
     ctx.setLineDash([5 * ratio, 4 * ratio]);
     ctx.font = (11 * ratio) + 'px sans-serif';
+    // Labels start at the line (uPlot leaves the context right-aligned after its axes).
+    ctx.textAlign = 'left';
+    ctx.textBaseline = 'alphabetic';
     (spec.vlines || []).forEach(function (l) {
       var x = u.valToPos(l.x, 'x', true);
       if (!(x >= b.left && x <= b.left + b.width)) return;
@@ -128,6 +131,17 @@
     ctx.restore();
   }
 
+  // Tick labels of a log axis: 0.001 to 10 000 as plain numbers, smaller or larger with an
+  // exponent (uPlot's own labels round 0.0001 to "0").
+  function logTicks(u, splits) {
+    return splits.map(function (v) {
+      if (v == null) return '';
+      var a = Math.abs(v);
+      if (a === 0 || (a >= 1e-3 && a < 1e4)) return String(+v.toPrecision(3));
+      return v.toExponential(0).replace('+', '');
+    });
+  }
+
   function options(spec, width) {
     var xy = spec.mode === 'xy';
     var height = spec.height || 260;
@@ -143,6 +157,8 @@
       scales.y.range = r.y;
     }
     var axes = [{ label: spec.x.label, scale: 'x' }, { label: spec.y.label, scale: 'y' }];
+    if (spec.x.log) axes[0].values = logTicks;
+    if (spec.y.log) axes[1].values = logTicks;
     if (spec.y2) {
       scales.y2 = { range: function (u, lo, hi) { return [0, Math.max(hi || 0, 1) * 1.1]; } };
       axes.push({ label: spec.y2.label, scale: 'y2', side: 1, grid: { show: false } });

@@ -2,6 +2,7 @@
 // The Monte-Carlo averaged NEES of a campaign's cells (campaign_nees.hpp).
 #include "campaign/campaign_nees.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -44,16 +45,65 @@ std::string fmt(const char* f, double a, double b = 0, double c = 0, double d = 
   return buf;
 }
 
+using Series = std::map<long, double>;  ///< one run's value at each whole second
+
+/// The Monte-Carlo average of n.runs runs' series of n.dof degrees of freedom, with its
+/// bounds, seconds outside and text (`none`: the text of a cell without runs).
+void average_over_runs(CellNees& n, const std::vector<Series>& runs, const std::string& none) {
+  n.runs = runs.size();
+  if (runs.empty()) {
+    n.text = none;
+    return;
+  }
+  const double N = static_cast<double>(n.runs);
+  const boost::math::chi_squared_distribution<double> chi2(n.dof * N);
+  n.lower = boost::math::quantile(chi2, 0.025) / N;
+  n.upper = boost::math::quantile(chi2, 0.975) / N;
+  for (const auto& [s, first] : runs.front()) {
+    double sum = 0.0;
+    bool all = true;
+    for (const auto& run : runs) {
+      const auto it = run.find(s);
+      if (it == run.end()) {
+        all = false;
+        break;
+      }
+      sum += it->second;
+    }
+    if (!all) continue;
+    const double m = sum / N;
+    n.t_s.push_back(static_cast<double>(s));
+    n.mean.push_back(m);
+    n.outside += (m < n.lower || m > n.upper) ? 1 : 0;
+    n.time_mean += m;
+  }
+  if (n.t_s.empty()) {
+    n.text = "no second with a value from every run";
+    return;
+  }
+  n.time_mean /= static_cast<double>(n.t_s.size());
+  n.text = n.quantity +
+           fmt(" %.3f on average, outside [%.3f, %.3f] %.0f %% of the time", n.time_mean, n.lower,
+               n.upper, 100.0 * static_cast<double>(n.outside) / static_cast<double>(n.t_s.size())) +
+           " (" + std::to_string(n.runs) + (n.runs == 1 ? " run, " : " runs, ") +
+           std::to_string(n.t_s.size()) + " s)";
+}
+
+/// The runs whose outputs count: those that finished (passed or failed their checks).
+bool finished(const std::optional<CampaignResult>& r) {
+  return r && (r->exit_code == kExitPass || r->exit_code == kExitFail);
+}
+
 }  // namespace
 
 std::vector<CellNees> campaign_nees(const std::filesystem::path& dir, const CampaignPlan& plan,
                                     const std::vector<std::optional<CampaignResult>>& results) {
   // Per cell and block, each stating run's values by second.
-  std::vector<std::array<std::vector<std::map<long, double>>, 2>> by_cell(plan.cells());
+  std::vector<std::array<std::vector<Series>, 2>> by_cell(plan.cells());
   bool stated[2] = {false, false};
   for (std::size_t i = 0; i < results.size(); ++i) {
     const auto& r = results[i];
-    if (!r || (r->exit_code != kExitPass && r->exit_code != kExitFail)) continue;
+    if (!finished(r)) continue;
     const auto csv = reports::read_csv((dir / "runs" / r->run_name / "timeseries.csv").string(), {});
     if (!csv) continue;
     for (int b = 0; b < 2; ++b) {
@@ -70,45 +120,57 @@ std::vector<CellNees> campaign_nees(const std::filesystem::path& dir, const Camp
       CellNees n;
       n.cell = plan.cell_name(c);
       n.block = kBlocks[b];
-      const auto& runs = by_cell[c][b];
-      n.runs = runs.size();
-      if (runs.empty()) {
-        n.text = "no covariance";
-        out.push_back(std::move(n));
-        continue;
-      }
-      const double N = static_cast<double>(n.runs);
-      const boost::math::chi_squared_distribution<double> chi2(3.0 * N);
-      n.lower = boost::math::quantile(chi2, 0.025) / N;
-      n.upper = boost::math::quantile(chi2, 0.975) / N;
-      for (const auto& [s, first] : runs.front()) {
-        double sum = 0.0;
-        bool all = true;
-        for (const auto& run : runs) {
-          const auto it = run.find(s);
-          if (it == run.end()) {
-            all = false;
-            break;
-          }
-          sum += it->second;
-        }
-        if (!all) continue;
-        const double m = sum / N;
-        n.t_s.push_back(static_cast<double>(s));
-        n.mean.push_back(m);
-        n.outside += (m < n.lower || m > n.upper) ? 1 : 0;
-        n.time_mean += m;
-      }
-      if (n.t_s.empty()) {
-        n.text = "no second with a value from every run";
-      } else {
-        n.time_mean /= static_cast<double>(n.t_s.size());
-        n.text = fmt("NEES %.3f on average, outside [%.3f, %.3f] %.0f %% of the time", n.time_mean,
-                     n.lower, n.upper,
-                     100.0 * static_cast<double>(n.outside) / static_cast<double>(n.t_s.size())) +
-                 " (" + std::to_string(n.runs) + (n.runs == 1 ? " run, " : " runs, ") +
-                 std::to_string(n.t_s.size()) + " s)";
-      }
+      average_over_runs(n, by_cell[c][b], "no covariance");
+      out.push_back(std::move(n));
+    }
+  }
+  return out;
+}
+
+std::vector<CellNees> campaign_nis(const std::filesystem::path& dir, const CampaignPlan& plan,
+                                   const std::vector<std::optional<CampaignResult>>& results) {
+  // Per measurement (its dimension from the first run that states it) and cell, the runs.
+  std::map<std::string, int> dof_of;
+  std::map<std::string, std::vector<std::vector<Series>>> by_source;
+  for (std::size_t i = 0; i < results.size(); ++i) {
+    const auto& r = results[i];
+    if (!finished(r)) continue;
+    const auto csv =
+        reports::read_csv((dir / "runs" / r->run_name / "innovations.csv").string(), {"source"});
+    if (!csv) continue;  // none stated (or an older run)
+    const auto source_column = csv->texts.find("source");
+    if (source_column == csv->texts.end()) continue;
+    const auto& sources = source_column->second;
+    const auto& t = (*csv)["t_s"];
+    const auto& dof = (*csv)["dof"];
+    const auto& nis = (*csv)["nis"];
+    std::map<std::string, std::pair<std::vector<double>, std::vector<double>>> rows;
+    const std::size_t n = std::min({sources.size(), t.size(), dof.size(), nis.size()});
+    for (std::size_t k = 0; k < n; ++k) {
+      if (!(dof[k] >= 1.0 && dof[k] <= 4.0)) continue;
+      const int m = static_cast<int>(dof[k]);
+      const auto [it, added] = dof_of.emplace(sources[k], m);
+      if (it->second != m) continue;
+      rows[sources[k]].first.push_back(t[k]);
+      rows[sources[k]].second.push_back(nis[k]);
+    }
+    for (auto& [source, tv] : rows) {
+      auto values = per_second(tv.first, tv.second);
+      if (values.empty()) continue;
+      auto& cells = by_source[source];
+      cells.resize(plan.cells());
+      cells[plan.cell_of(i)].push_back(std::move(values));
+    }
+  }
+  std::vector<CellNees> out;
+  for (const auto& [source, cells] : by_source) {
+    for (std::size_t c = 0; c < plan.cells(); ++c) {
+      CellNees n;
+      n.cell = plan.cell_name(c);
+      n.block = source;
+      n.quantity = "NIS";
+      n.dof = dof_of.at(source);
+      average_over_runs(n, cells[c], "no innovations");
       out.push_back(std::move(n));
     }
   }
@@ -119,6 +181,8 @@ json nees_json(const CellNees& n) {
   json j;
   j["scenario"] = n.cell;
   j["block"] = n.block;
+  j["quantity"] = n.quantity;
+  j["dof"] = n.dof;
   j["runs"] = n.runs;
   j["text"] = n.text;
   if (n.runs == 0 || n.t_s.empty()) return j;

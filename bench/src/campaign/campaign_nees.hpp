@@ -7,7 +7,10 @@
 // of seconds outside. Each run's value at second s is the NEES of its solution nearest s
 // (within 50 ms; runs/<name>/timeseries.csv); a second at which a run has none is left out.
 // The runs are independent (each its own seed), so unlike one run's time average the bounds
-// hold as stated. Reported, not judged: it makes no verdict. Private to nav_bench's campaign/.
+// hold as stated. Reported, not judged: it makes no verdict. The innovations the DUT states
+// (`$PNVBINN`, runs/<name>/innovations.csv) are averaged the same way, per measurement: the
+// NIS of m degrees of freedom against [χ²_{mN}(0.025)/N, χ²_{mN}(0.975)/N]. Private to
+// nav_bench's campaign/.
 #pragma once
 
 #include <filesystem>
@@ -24,7 +27,9 @@ namespace nav::bench::detail {
 
 struct CellNees {
   std::string cell;
-  std::string block;            ///< "position" or "attitude"
+  std::string block;            ///< "position" or "attitude"; of NIS, the measurement's name
+  std::string quantity = "NEES";  ///< "NEES" or "NIS"
+  int dof = 3;                  ///< n (NEES) or m (NIS) of one value
   std::size_t runs = 0;         ///< N: finished runs of the cell that stated the block
   double lower = 0.0, upper = 0.0;  ///< the bounds for N runs
   std::vector<double> t_s;      ///< whole seconds with a value from every one of the N runs
@@ -40,6 +45,12 @@ struct CellNees {
 /// gets runs = 0 and "no covariance"), from the run folders under dir/runs.
 std::vector<CellNees> campaign_nees(const std::filesystem::path& dir, const CampaignPlan& plan,
                                     const std::vector<std::optional<CampaignResult>>& results);
+
+/// Every cell × measurement whose innovations some run of the campaign states (a cell that
+/// states none for it gets runs = 0 and "no innovations"), from runs/<name>/innovations.csv.
+/// A measurement stated with several dimensions keeps the values of its first one.
+std::vector<CellNees> campaign_nis(const std::filesystem::path& dir, const CampaignPlan& plan,
+                                   const std::vector<std::optional<CampaignResult>>& results);
 
 /// As campaign.json writes it (the series thinned to at most 1000 seconds).
 nlohmann::ordered_json nees_json(const CellNees& n);

@@ -42,7 +42,7 @@ json number_or_null(double v) { return std::isnan(v) ? json(nullptr) : json(v); 
 std::string markdown_document(const CampaignHeader& h, const CampaignPlan& plan,
                               std::size_t finished, const std::string& table,
                               const std::string& checks, const std::string& pairs,
-                              const std::string& nees) {
+                              const std::string& nees, const std::string& nis) {
   const std::uint64_t last = plan.first_seed + plan.seeds - 1;
   std::string doc = "# navbench campaign\n\n";
   const std::string variants_line =
@@ -81,6 +81,13 @@ std::string markdown_document(const CampaignHeader& h, const CampaignPlan& plan,
            "two-sided 95 % bounds of a consistent filter [χ²₃ₙ(0.025)/N, "
            "χ²₃ₙ(0.975)/N] for N runs; reported, not judged.\n\n"
            "| scenario | block | NEES |\n|---|---|---|\n" + nees;
+  }
+  if (!nis.empty()) {
+    doc += "\n## Innovations\n\nThe NIS νᵀS⁻¹ν of the innovations the DUT stated "
+           "($PNVBINN), per measurement of m dimensions, averaged over the runs at each whole "
+           "second (Monte Carlo), against [χ²ₘₙ(0.025)/N, χ²ₘₙ(0.975)/N] for N runs; "
+           "reported, not judged.\n\n"
+           "| scenario | measurement | m | NIS |\n|---|---|---|---|\n" + nis;
   }
   return doc;
 }
@@ -143,13 +150,23 @@ std::optional<int> write_campaign_outputs(const fs::path& dir, const CampaignPla
     nees_text += "      " + n.cell + ", " + n.block + ": " + n.text + "\n";
     nees_md += "| " + n.cell + " | " + n.block + " | " + n.text + " |\n";
   }
+  const auto nis = campaign_nis(dir, plan, results);
+  std::string nis_text, nis_md;
+  for (const auto& n : nis) {
+    nis_text += "      " + n.cell + ", " + n.block + " (" + std::to_string(n.dof) +
+                " dof): " + n.text + "\n";
+    nis_md += "| " + n.cell + " | " + n.block + " | " + std::to_string(n.dof) + " | " + n.text +
+              " |\n";
+  }
   const std::string table = comparison_markdown(rows);
   const std::string stdout_text =
       table + (checks_text.empty() ? "" : "\nCampaign checks:\n" + checks_text) +
       (pairs_text.empty() ? "" : "\nVariants paired by seed:\n" + pairs_text) +
       (nees_text.empty() ? ""
                          : "\nFilter consistency (Monte-Carlo averaged NEES, 3 dof, 95 % "
-                           "bounds):\n" + nees_text);
+                           "bounds):\n" + nees_text) +
+      (nis_text.empty() ? ""
+                        : "\nInnovations (Monte-Carlo averaged NIS, 95 % bounds):\n" + nis_text);
   const int exit_code = campaign_exit_code(codes);
 
   json j;
@@ -226,9 +243,11 @@ std::optional<int> write_campaign_outputs(const fs::path& dir, const CampaignPla
   for (const auto& c : pairs) j["paired_comparisons"].push_back(paired_json(c));
   j["nees"] = json::array();
   for (const auto& n : nees) j["nees"].push_back(nees_json(n));
+  j["nis"] = json::array();
+  for (const auto& n : nis) j["nis"].push_back(nees_json(n));
   try {
     write_atomically(dir / "comparison.csv", comparison_csv(rows));
-    write_atomically(dir / "comparison.md", markdown_document(h, plan, finished, table, checks_md, pairs_md, nees_md));
+    write_atomically(dir / "comparison.md", markdown_document(h, plan, finished, table, checks_md, pairs_md, nees_md, nis_md));
     write_atomically(dir / "campaign.json", reports::dump_json(j, 2) + "\n");
     // The campaign report from the files just written, as `navbench report DIR` makes it.
     if (const auto report = reports::write_report(dir.string()); !report) {

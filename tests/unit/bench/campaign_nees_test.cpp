@@ -2,7 +2,8 @@
 // The Monte-Carlo averaged NEES of a campaign (campaign/campaign_nees.hpp) over run folders
 // written here: a consistent filter's average stays within its bounds about 95 % of the
 // time, one that states a quarter of its covariance is outside nearly always, a cell whose
-// runs state none says so.
+// runs state none says so; the same for the NIS of the innovations the runs state, per
+// measurement with its own dimension.
 #include "campaign/campaign_nees.hpp"
 
 #include <gtest/gtest.h>
@@ -90,6 +91,60 @@ TEST(CampaignNees, NothingStatedNothingReported) {
   f.plan.scenarios.resize(1);  // only "consistent": ...
   for (auto& r : f.results) r->exit_code = kExitBench;  // ... and every run in bench error
   EXPECT_TRUE(campaign_nees(f.dir, f.plan, f.results).empty());
+}
+
+/// The runs of make()'s plan also state innovations: "euler" (3 dof) at 20 Hz, NIS drawn as
+/// χ²₃ (times 4 in "overconfident"), and "depth" (1 dof) at 1 Hz, χ²₁, in every scenario but
+/// "silent".
+void add_innovations(const Fixture& f) {
+  std::mt19937_64 rng(43);
+  std::chi_squared_distribution<double> chi3(3.0), chi1(1.0);
+  for (std::size_t i = 0; i < f.plan.size(); ++i) {
+    const std::size_t s = f.plan.scenario_of(i);
+    if (s == 2) continue;
+    std::ofstream out(f.dir / "runs" / f.results[i]->run_name / "innovations.csv");
+    out << "t_s,source,dof,nis\n";
+    for (int k = 0; k <= 4000; ++k) {
+      out << k * 0.05 << ",euler,3," << (s == 1 ? 4.0 : 1.0) * chi3(rng) << "\n";
+      if (k % 20 == 0) out << k * 0.05 << ",depth,1," << chi1(rng) << "\n";
+    }
+    if (i == 0) out << "1,euler,2,100\n";  // another dimension for euler: left out
+  }
+}
+
+TEST(CampaignNis, PerMeasurementWithItsOwnDimension) {
+  const Fixture f = make(100);
+  add_innovations(f);
+  const auto nis = campaign_nis(f.dir, f.plan, f.results);
+  ASSERT_EQ(nis.size(), 6u);  // depth, euler (by name) × 3 cells
+  const auto& depth = nis[0];
+  EXPECT_EQ(depth.block, "depth");
+  EXPECT_EQ(depth.quantity, "NIS");
+  EXPECT_EQ(depth.dof, 1);
+  EXPECT_EQ(depth.runs, 100u);
+  // χ²₁₀₀(0.025)/100, χ²₁₀₀(0.975)/100 = 0.7422, 1.2956
+  EXPECT_NEAR(depth.lower, 0.7422, 0.001);
+  EXPECT_NEAR(depth.upper, 1.2956, 0.001);
+  EXPECT_EQ(depth.t_s.size(), 201u);
+  EXPECT_NEAR(depth.time_mean, 1.0, 0.05);
+  const auto& euler = nis[3];
+  EXPECT_EQ(euler.block, "euler");
+  EXPECT_EQ(euler.dof, 3);
+  EXPECT_NEAR(euler.upper, 3.50, 0.01);
+  EXPECT_LT(static_cast<double>(euler.outside) / static_cast<double>(euler.t_s.size()), 0.12);
+  const auto& over = nis[4];
+  EXPECT_EQ(over.cell, "overconfident");
+  EXPECT_GT(over.outside, over.t_s.size() * 99 / 100);
+  EXPECT_EQ(over.text.substr(0, 4), "NIS ");
+  EXPECT_EQ(nis[5].runs, 0u);
+  EXPECT_EQ(nis[5].text, "no innovations");
+  EXPECT_EQ(nees_json(euler)["quantity"], "NIS");
+  EXPECT_EQ(nees_json(euler)["dof"], 3);
+}
+
+TEST(CampaignNis, NoRunStatesInnovationsNothingReported) {
+  const Fixture f = make(2);
+  EXPECT_TRUE(campaign_nis(f.dir, f.plan, f.results).empty());
 }
 
 }  // namespace

@@ -55,6 +55,8 @@ struct RunFolder {
   CsvColumns latency;              ///< latency.csv
   CsvColumns lateness;             ///< lateness.csv (text column: device)
   CsvColumns rates;                ///< device-rates.csv (text column: device)
+  bool has_innovations = false;
+  CsvColumns innovations;          ///< innovations.csv (text column: source), when stated
   std::vector<VehicleFiles> vehicles;  ///< the primary first
   bool has_dut_log = false;
   std::string dut_log_tail;        ///< the last lines of dut.log (at most kDutLogTailBytes)
