@@ -28,11 +28,12 @@ std::string averaged_table(const json& entries, const std::string& quantity,
     const bool has = bounds.is_array() && bounds.size() == 2;
     const double outside = get_number(n, "fraction_outside", 0.0);
     const std::string block = get_string(n, "block", "?");
-    const std::string block_cell =
-        quantity == "NIS" ? block + " (" + num(dof, 10) + " dof)" : block;
+    const std::string block_cell = quantity != "NIS" ? block
+                                   : dof > 0         ? block + " (" + num(dof, 10) + " dof)"
+                                                     : std::string("\u2014");
     h += row({html_escape(get_string(n, "scenario", "?")), html_escape(block_cell),
               num(runs, 10),
-              has ? fixed(get_number(n, "time_mean")) : html_escape(get_string(n, "text", "")),
+              has ? num(get_number(n, "time_mean"), 4) : html_escape(get_string(n, "text", "")),
               has ? "[" + fixed(bounds[0].get<double>()) + ", " + fixed(bounds[1].get<double>()) +
                         "]"
                   : std::string("\u2014"),

@@ -83,7 +83,7 @@ void average_over_runs(CellNees& n, const std::vector<Series>& runs, const std::
   }
   n.time_mean /= static_cast<double>(n.t_s.size());
   n.text = n.quantity +
-           fmt(" %.3f on average, outside [%.3f, %.3f] %.0f %% of the time", n.time_mean, n.lower,
+           fmt(" %.4g on average, outside [%.3f, %.3f] %.0f %% of the time", n.time_mean, n.lower,
                n.upper, 100.0 * static_cast<double>(n.outside) / static_cast<double>(n.t_s.size())) +
            " (" + std::to_string(n.runs) + (n.runs == 1 ? " run, " : " runs, ") +
            std::to_string(n.t_s.size()) + " s)";
@@ -162,15 +162,28 @@ std::vector<CellNees> campaign_nis(const std::filesystem::path& dir, const Campa
       cells[plan.cell_of(i)].push_back(std::move(values));
     }
   }
+  // Per cell, each measurement its runs state; a cell whose runs state none, once.
   std::vector<CellNees> out;
-  for (const auto& [source, cells] : by_source) {
-    for (std::size_t c = 0; c < plan.cells(); ++c) {
+  for (std::size_t c = 0; c < plan.cells(); ++c) {
+    bool any = false;
+    for (const auto& [source, cells] : by_source) {
+      if (cells[c].empty()) continue;
+      any = true;
       CellNees n;
       n.cell = plan.cell_name(c);
       n.block = source;
       n.quantity = "NIS";
       n.dof = dof_of.at(source);
       average_over_runs(n, cells[c], "no innovations");
+      out.push_back(std::move(n));
+    }
+    if (!any && !by_source.empty()) {
+      CellNees n;
+      n.cell = plan.cell_name(c);
+      n.block = "-";
+      n.quantity = "NIS";
+      n.dof = 0;
+      n.text = "no innovations";
       out.push_back(std::move(n));
     }
   }

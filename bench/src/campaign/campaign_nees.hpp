@@ -46,9 +46,10 @@ struct CellNees {
 std::vector<CellNees> campaign_nees(const std::filesystem::path& dir, const CampaignPlan& plan,
                                     const std::vector<std::optional<CampaignResult>>& results);
 
-/// Every cell × measurement whose innovations some run of the campaign states (a cell that
-/// states none for it gets runs = 0 and "no innovations"), from runs/<name>/innovations.csv.
-/// A measurement stated with several dimensions keeps the values of its first one.
+/// Per cell, every measurement whose innovations its runs state, from
+/// runs/<name>/innovations.csv; a cell whose runs state none gets one entry (block "-",
+/// runs = 0, "no innovations"), and a campaign none of whose runs state any, no entry. A
+/// measurement stated with several dimensions keeps the values of its first one.
 std::vector<CellNees> campaign_nis(const std::filesystem::path& dir, const CampaignPlan& plan,
                                    const std::vector<std::optional<CampaignResult>>& results);
 

@@ -153,10 +153,12 @@ std::optional<int> write_campaign_outputs(const fs::path& dir, const CampaignPla
   const auto nis = campaign_nis(dir, plan, results);
   std::string nis_text, nis_md;
   for (const auto& n : nis) {
-    nis_text += "      " + n.cell + ", " + n.block + " (" + std::to_string(n.dof) +
-                " dof): " + n.text + "\n";
-    nis_md += "| " + n.cell + " | " + n.block + " | " + std::to_string(n.dof) + " | " + n.text +
-              " |\n";
+    const bool none = n.dof == 0;  // a cell that states no innovations at all
+    nis_text += "      " + n.cell +
+                (none ? "" : ", " + n.block + " (" + std::to_string(n.dof) + " dof)") + ": " +
+                n.text + "\n";
+    nis_md += "| " + n.cell + " | " + n.block + " | " + (none ? "-" : std::to_string(n.dof)) +
+              " | " + n.text + " |\n";
   }
   const std::string table = comparison_markdown(rows);
   const std::string stdout_text =

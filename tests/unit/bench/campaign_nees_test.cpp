@@ -79,7 +79,7 @@ TEST(CampaignNees, ConsistentInsideAbout95PercentOverconfidentOutsideSilentSaysS
   const auto& over = nees[1];
   EXPECT_GT(over.outside, over.t_s.size() * 99 / 100);
   EXPECT_NEAR(over.time_mean, 12.0, 0.4);
-  EXPECT_EQ(over.text, "NEES 11.923 on average, outside [2.539, 3.499] 100 % of the time (100 runs, 201 s)");
+  EXPECT_EQ(over.text, "NEES 11.92 on average, outside [2.539, 3.499] 100 % of the time (100 runs, 201 s)");
   EXPECT_EQ(nees[2].runs, 0u);
   EXPECT_EQ(nees[2].text, "no covariance");
   EXPECT_FALSE(nees_json(nees[2]).contains("bounds"));
@@ -116,8 +116,9 @@ TEST(CampaignNis, PerMeasurementWithItsOwnDimension) {
   const Fixture f = make(100);
   add_innovations(f);
   const auto nis = campaign_nis(f.dir, f.plan, f.results);
-  ASSERT_EQ(nis.size(), 6u);  // depth, euler (by name) × 3 cells
+  ASSERT_EQ(nis.size(), 5u);  // depth, euler of two cells; "silent" once
   const auto& depth = nis[0];
+  EXPECT_EQ(depth.cell, "consistent");
   EXPECT_EQ(depth.block, "depth");
   EXPECT_EQ(depth.quantity, "NIS");
   EXPECT_EQ(depth.dof, 1);
@@ -127,17 +128,19 @@ TEST(CampaignNis, PerMeasurementWithItsOwnDimension) {
   EXPECT_NEAR(depth.upper, 1.2956, 0.001);
   EXPECT_EQ(depth.t_s.size(), 201u);
   EXPECT_NEAR(depth.time_mean, 1.0, 0.05);
-  const auto& euler = nis[3];
+  const auto& euler = nis[1];
   EXPECT_EQ(euler.block, "euler");
   EXPECT_EQ(euler.dof, 3);
   EXPECT_NEAR(euler.upper, 3.50, 0.01);
   EXPECT_LT(static_cast<double>(euler.outside) / static_cast<double>(euler.t_s.size()), 0.12);
-  const auto& over = nis[4];
+  const auto& over = nis[3];
   EXPECT_EQ(over.cell, "overconfident");
+  EXPECT_EQ(over.block, "euler");
   EXPECT_GT(over.outside, over.t_s.size() * 99 / 100);
   EXPECT_EQ(over.text.substr(0, 4), "NIS ");
-  EXPECT_EQ(nis[5].runs, 0u);
-  EXPECT_EQ(nis[5].text, "no innovations");
+  EXPECT_EQ(nis[4].cell, "silent");
+  EXPECT_EQ(nis[4].runs, 0u);
+  EXPECT_EQ(nis[4].text, "no innovations");
   EXPECT_EQ(nees_json(euler)["quantity"], "NIS");
   EXPECT_EQ(nees_json(euler)["dof"], 3);
 }
