@@ -7,6 +7,8 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Cholesky>
+#include <cmath>
+#include <limits>
 #include <random>
 
 #include "judge/consistency.hpp"
@@ -61,6 +63,12 @@ TEST(Nis, IsTheQuadraticFormOfTheInverseInnovationCovarianceForEveryDimension) {
   singular.rho[0] = 1.0;
   singular.sigma[1] = singular.sigma[0];
   EXPECT_FALSE(nis(singular));  // perfectly correlated: S is singular
+  // An absurd innovation overflows to an infinite NIS, never to "not positive definite".
+  Innovation absurd = stated("x", 2, nu, S);
+  absurd.nu[0] = 1e300;
+  absurd.nu[1] = -1e300;
+  ASSERT_TRUE(nis(absurd));
+  EXPECT_TRUE(std::isinf(*nis(absurd)));
 }
 
 /// K updates of one measurement of m dimensions, ν drawn from N(0, S_true), S_stated stated.
@@ -155,6 +163,11 @@ TEST(InnovationConsistency, NotPositiveDefiniteFailsNoneStatedIsNotJudged) {
   EXPECT_FALSE(bad.passed);
   EXPECT_EQ(bad.detail,
             "the stated innovation covariance of mag at t=4.00 s is not positive definite");
+  // An innovation too large for its S (ν = 1e300): an infinite NIS fails, as too small an S.
+  samples[4].nis = std::numeric_limits<double>::infinity();
+  const auto huge = judge_consistency(innovation_check(), {}, samples, std::nullopt);
+  EXPECT_FALSE(huge.passed);
+  EXPECT_NE(huge.detail.find("too small"), std::string::npos) << huge.detail;
   const auto other = judge_consistency(innovation_check("euler"), {}, samples, std::nullopt);
   EXPECT_FALSE(other.judged);
   EXPECT_EQ(other.detail, "no innovations: the DUT stated none for euler");
