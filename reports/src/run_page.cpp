@@ -163,6 +163,13 @@ std::string limit_text(const json& c) {
   const std::string unit = get_string(c, "unit", "");
   const std::string kind = get_string(c, "kind").value_or(get_string(c, "name", ""));
   if (kind == "dut_alive") return "alive to the end";
+  if (kind == "consistency") {  // two-sided: the summary keeps the upper bound
+    if (!detail::get_bool(c, "judged").value_or(true)) return "\u2014";
+    std::string t = "within its 95 % bounds (upper " + num(get_number(c, "limit")) + ")";
+    const double after = get_number(c, "after_s", 0.0);
+    if (after > 0) t += ", from t = " + num(after) + " s";
+    return t;
+  }
   if (kind == "deadline") {
     std::string t = "\u2264 " + num(get_number(c, "limit")) + " misses";
     if (const auto ms = get_number(c, "max_latency_ms")) t += " over " + num(*ms) + " ms";
@@ -201,7 +208,11 @@ std::string checks(const RunFolder& f, const detail::RunPlots& plots) {
     h += "<tr class=\"" + std::string(!judged ? "skip" : passed ? "pass" : "fail") + "\">";
     h += "<td><code>" + html_escape(name) + "</code><div class=\"detail\">" + html_escape(get_string(c, "detail", "")) + "</div></td>";
     h += "<td>" + req + "</td>";
-    h += "<td class=\"n\">" + num(get_number(c, "value")) + " " + html_escape(get_string(c, "unit", "")) + "</td>";
+    const bool no_figure = !judged && kind == "consistency";  // nothing stated: no figure
+    h += "<td class=\"n\">" +
+         (no_figure ? std::string("\u2014")
+                    : num(get_number(c, "value")) + " " + html_escape(get_string(c, "unit", ""))) +
+         "</td>";
     h += "<td>" + html_escape(limit_text(c)) + "</td>";
     h += "<td class=\"tag\">" + tag + "</td>";
     h += "<td class=\"n\">" + (worst ? "t = " + fixed(*worst, 2) + " s" : std::string("\u2014")) + "</td>";

@@ -117,7 +117,7 @@ void judge_innovations(const CheckSpec& c,
   r.value = sum / static_cast<double>(k);
   r.limit = hi;
   r.passed = r.value >= lo && r.value <= hi;
-  r.detail = fmt("time-averaged NIS %.3f over %.0f updates of ", r.value,
+  r.detail = fmt("time-averaged NIS %.4g over %.0f updates of ", r.value,
                  static_cast<double>(k)) +
              what + fmt(" (%.3g dof on average), 95 %% bounds [%.3f, %.3f]",
                         dof / static_cast<double>(k), lo, hi) +
