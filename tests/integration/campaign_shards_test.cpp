@@ -196,6 +196,36 @@ TEST_F(NavbenchCampaignShards, AChangedDutConfigurationIsRunAgain) {
   EXPECT_NE(rerun["inputs"]["dut_files_sha256"], result["inputs"]["dut_files_sha256"]);
 }
 
+TEST_F(NavbenchCampaignShards, AConfigurationNamedWithTheSeedIsEachRunsOwn) {
+  // navd-{seed}.yaml: each seed's run reads its own file; a campaign run again skips the runs
+  // whose file is unchanged and runs again the one whose file changed.
+  const auto dir = fresh_dir("campaign-seed-config");
+  std::ifstream in(source_path(kSeeded));
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string from = "{scenario_dir}/navd-default.yaml";
+  ASSERT_NE(text.find(from), std::string::npos);
+  text.replace(text.find(from), from.size(), "{scenario_dir}/navd-{seed}.yaml");
+  std::ofstream(dir / "seeded_dut.yaml") << text;
+  for (const char* seed : {"1", "2"}) {
+    fs::copy_file(source_path("tests/integration/scenarios/campaign/navd-default.yaml"),
+                  dir / (std::string("navd-") + seed + ".yaml"));
+  }
+  const std::vector<std::string> cmd{"campaign", "seeded_dut.yaml", "--seeds", "2", "-o", "c"};
+  const auto first = run_navbench(cmd, dir);
+  ASSERT_EQ(first.exit_code, 0) << first.err;
+  const auto s2 = load_json(dir / "c" / "runs" / "it-campaign-seeded-s2" / "summary.json");
+  ASSERT_EQ(s2["dut"]["files"].size(), 1U) << s2["dut"].dump();
+  EXPECT_EQ(fs::path(s2["dut"]["files"][0]["path"].get<std::string>()).filename(), "navd-2.yaml");
+  const auto same = run_navbench(cmd, dir);
+  ASSERT_EQ(same.exit_code, 0) << same.err;
+  EXPECT_NE(same.err.find("2 of 2 runs done already, 0 to run"), std::string::npos) << same.err;
+  std::ofstream(dir / "navd-2.yaml", std::ios::app) << "# changed\n";
+  const auto changed = run_navbench(cmd, dir);
+  ASSERT_EQ(changed.exit_code, 0) << changed.err;
+  EXPECT_NE(changed.err.find("1 of 2 runs done already, 1 to run"), std::string::npos)
+      << changed.err;
+}
+
 TEST_F(NavbenchCampaignShards, TheDutCommandGetsTheRunsSeed) {
   const auto dir = fresh_dir("campaign-seed");
   const auto r = run_navbench({"run", source_path(kSeeded), "--seed", "9", "-o", "r", "-q"}, dir);

@@ -112,7 +112,8 @@ int run_campaign(const CampaignOptions& o) {
   std::vector<RunInputs> expected(plan->size());
   for (std::size_t i = 0; i < plan->size(); ++i) {
     const ScenarioInputs& si = (*inputs)[plan->cell_of(i)];
-    expected[i] = current_inputs(*plan, i, si.sha256, si.dut_sha256, si.dut_files_sha256);
+    expected[i] = current_inputs(*plan, i, si.sha256, si.dut_sha256,
+                                 si.dut_files_sha256(plan->seed_of(i)));
     CampaignResult found;
     if (done_already(*plan, i, runs_dir, expected[i], &found) == Done::kYes) results[i] = found;
   }

@@ -192,7 +192,8 @@ int run_campaign_index(const RunIndexOptions& o) {
   }
   const fs::path runs = (out.empty() ? fs::path(".") : out) / "runs";
   const ScenarioInputs& si = (*inputs)[plan->cell_of(i)];
-  const RunInputs expected = current_inputs(*plan, i, si.sha256, si.dut_sha256, si.dut_files_sha256);
+  const RunInputs expected = current_inputs(*plan, i, si.sha256, si.dut_sha256,
+                                 si.dut_files_sha256(plan->seed_of(i)));
   CampaignResult found;
   if (done_already(*plan, i, runs, expected, &found) == Done::kYes) {
     if (!o.quiet) {

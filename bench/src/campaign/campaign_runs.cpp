@@ -116,7 +116,7 @@ Result<std::vector<ScenarioInputs>> plan_inputs(const CampaignPlan& plan) {
     auto sc = preflight_scenario(s.file, v.name, v.program);
     if (!sc) return tl::unexpected(sc.error());
     in.dut_sha256 = dut_sha256s(*sc);
-    in.dut_files_sha256 = dut_file_sha256s(*sc);
+    in.dut_commands = dut_commands(*sc);
     out.push_back(std::move(in));
   }
   return out;

@@ -20,6 +20,7 @@
 
 #include "nav/bench/campaign_result.hpp"
 #include "nav/bench/group_guard.hpp"
+#include "nav/bench/runner.hpp"
 
 namespace nav::bench::detail {
 
@@ -40,7 +41,11 @@ struct IndexChild {
 struct ScenarioInputs {
   std::string sha256;
   std::vector<std::string> dut_sha256;
-  std::vector<std::vector<std::string>> dut_files_sha256;
+  std::vector<std::vector<std::string>> dut_commands;  ///< primary first, variant applied
+  /// The files' SHA-256 in the run of `seed` (a path made with "{seed}" names its own file).
+  std::vector<std::vector<std::string>> dut_files_sha256(std::uint64_t seed) const {
+    return dut_file_sha256s(dut_commands, seed);
+  }
 };
 Result<std::vector<ScenarioInputs>> plan_inputs(const CampaignPlan& plan);
 

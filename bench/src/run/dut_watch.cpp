@@ -10,6 +10,7 @@
 #include <boost/asio/steady_timer.hpp>
 
 #include "devices/device_kind.hpp"
+#include "nav/bench/runner.hpp"
 #include "lines/port_users.hpp"
 
 namespace nav::bench::detail {
@@ -118,13 +119,7 @@ std::vector<std::string> DutWatch::argv_of(std::uint32_t v, const std::vector<Be
       }
     }
     // The run's seed, so that a DUT with random parts varies with it (a campaign's seeds).
-    constexpr std::string_view kSeed = "{seed}";
-    for (auto pos = a.find(kSeed); pos != std::string::npos; pos = a.find(kSeed, pos)) {
-      const std::string seed = std::to_string(sc_.seed);
-      a.replace(pos, kSeed.size(), seed);
-      pos += seed.size();
-    }
-    argv.push_back(a);
+    argv.push_back(with_seed(std::move(a), sc_.seed));
   }
   return argv;
 }

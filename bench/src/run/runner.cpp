@@ -353,12 +353,32 @@ std::vector<reports::DutFile> dut_argument_files(const std::vector<std::string>&
   return out;
 }
 
-std::vector<std::vector<std::string>> dut_file_sha256s(const Scenario& sc) {
+std::string with_seed(std::string arg, std::uint64_t seed) {
+  constexpr std::string_view kSeed = "{seed}";
+  const std::string text = std::to_string(seed);
+  for (auto pos = arg.find(kSeed); pos != std::string::npos; pos = arg.find(kSeed, pos)) {
+    arg.replace(pos, kSeed.size(), text);
+    pos += text.size();
+  }
+  return arg;
+}
+
+std::vector<std::vector<std::string>> dut_commands(const Scenario& sc) {
   std::vector<std::vector<std::string>> out;
   for (std::size_t v = 0; v <= sc.peers.size(); ++v) {
-    const auto& dut = v == 0 ? sc.dut : sc.peers[v - 1].dut;
+    out.push_back(v == 0 ? sc.dut.command : sc.peers[v - 1].dut.command);
+  }
+  return out;
+}
+
+std::vector<std::vector<std::string>> dut_file_sha256s(
+    const std::vector<std::vector<std::string>>& commands, std::uint64_t seed) {
+  std::vector<std::vector<std::string>> out;
+  for (const auto& command : commands) {
+    std::vector<std::string> argv;
+    for (const auto& a : command) argv.push_back(with_seed(a, seed));
     auto& hashes = out.emplace_back();
-    for (const auto& f : dut_argument_files(dut.command)) hashes.push_back(f.sha256);
+    for (const auto& f : dut_argument_files(argv)) hashes.push_back(f.sha256);
   }
   return out;
 }

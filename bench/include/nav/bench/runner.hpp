@@ -71,7 +71,13 @@ std::vector<std::string> dut_sha256s(const Scenario& sc);
 /// its configuration), with their SHA-256, in argument order. Device lines (character
 /// devices), missing paths and anything else are not files here.
 std::vector<reports::DutFile> dut_argument_files(const std::vector<std::string>& argv);
-/// Per vehicle (the primary first), the SHA-256 of the files its DUT's arguments name.
-std::vector<std::vector<std::string>> dut_file_sha256s(const Scenario& sc);
+/// Per vehicle (the primary first), its DUT's command (argv, before its run fills it in).
+std::vector<std::vector<std::string>> dut_commands(const Scenario& sc);
+/// Per command of dut_commands(), the SHA-256 of the files its arguments name in the run of
+/// `seed` (each "{seed}" in them replaced by it first, as the run does).
+std::vector<std::vector<std::string>> dut_file_sha256s(
+    const std::vector<std::vector<std::string>>& commands, std::uint64_t seed);
+/// `arg` with every "{seed}" replaced by the run's seed in decimal.
+std::string with_seed(std::string arg, std::uint64_t seed);
 
 }  // namespace nav::bench
