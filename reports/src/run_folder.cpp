@@ -89,6 +89,27 @@ const std::vector<double>& CsvColumns::operator[](const std::string& name) const
   return it == numbers.end() ? kEmpty : it->second;
 }
 
+std::map<std::string, InnovationSeries> innovations_by_source(const CsvColumns& csv) {
+  std::map<std::string, InnovationSeries> out;
+  const auto sources = csv.texts.find("source");
+  if (sources == csv.texts.end()) return out;
+  const auto& src = sources->second;
+  const auto& t = csv["t_s"];
+  const auto& dof = csv["dof"];
+  const auto& nis = csv["nis"];
+  const std::size_t n = std::min({src.size(), t.size(), dof.size(), nis.size()});
+  for (std::size_t k = 0; k < n; ++k) {
+    if (!(dof[k] >= 1.0 && dof[k] <= 4.0)) continue;
+    const int m = static_cast<int>(dof[k]);
+    auto& series = out[src[k]];
+    if (series.dof == 0) series.dof = m;
+    if (series.dof != m) continue;  // another dimension under the same name
+    series.t_s.push_back(t[k]);
+    series.nis.push_back(nis[k]);
+  }
+  return out;
+}
+
 Result<CsvColumns> read_csv(const std::string& path, const std::vector<std::string>& text_columns) {
   std::ifstream in(path, std::ios::binary);
   if (!in) return fail(ErrorCode::kNotFound, path + ": cannot be read");

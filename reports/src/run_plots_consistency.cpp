@@ -76,32 +76,11 @@ void add_consistency_plots(const RunFolder& f, RunPlots& out) {
     out.check_anchor[std::string(block) + "_consistency"] = id;
   }
   if (f.has_innovations) {
-    const auto source_column = f.innovations.texts.find("source");
-    const auto& t = f.innovations["t_s"];
-    const auto& dof = f.innovations["dof"];
-    const auto& nis = f.innovations["nis"];
-    struct Updates {
-      int dof = 0;
-      std::vector<double> t, nis;
-    };
-    std::map<std::string, Updates> by;
-    if (source_column != f.innovations.texts.end()) {
-      const auto& src = source_column->second;
-      for (std::size_t k = 0; k < src.size() && k < t.size() && k < dof.size() && k < nis.size();
-           ++k) {
-        if (!(dof[k] >= 1.0 && dof[k] <= 4.0)) continue;
-        auto& u = by[src[k]];
-        if (u.dof == 0) u.dof = static_cast<int>(dof[k]);
-        if (u.dof != static_cast<int>(dof[k])) continue;  // another dimension: not this plot's
-        u.t.push_back(t[k]);
-        u.nis.push_back(nis[k]);
-      }
-    }
     std::size_t n = 0;
-    for (const auto& [source, u] : by) {
+    for (const auto& [source, u] : innovations_by_source(f.innovations)) {
       const std::string id = "plot-nis-" + std::to_string(n++);
       s.plots.push_back(consistency_plot(id, "NIS of " + source + " updates ($PNVBINN)", "NIS",
-                                         u.dof, u.t, u.nis));
+                                         u.dof, u.t_s, u.nis));
       std::string name = source + "_innovation_consistency";
       std::replace(name.begin(), name.end(), '-', '_');
       out.check_anchor[name] = id;

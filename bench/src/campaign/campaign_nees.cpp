@@ -2,7 +2,6 @@
 // The Monte-Carlo averaged NEES of a campaign's cells (campaign_nees.hpp).
 #include "campaign/campaign_nees.hpp"
 
-#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -138,24 +137,10 @@ std::vector<CellNees> campaign_nis(const std::filesystem::path& dir, const Campa
     const auto csv =
         reports::read_csv((dir / "runs" / r->run_name / "innovations.csv").string(), {"source"});
     if (!csv) continue;  // none stated (or an older run)
-    const auto source_column = csv->texts.find("source");
-    if (source_column == csv->texts.end()) continue;
-    const auto& sources = source_column->second;
-    const auto& t = (*csv)["t_s"];
-    const auto& dof = (*csv)["dof"];
-    const auto& nis = (*csv)["nis"];
-    std::map<std::string, std::pair<std::vector<double>, std::vector<double>>> rows;
-    const std::size_t n = std::min({sources.size(), t.size(), dof.size(), nis.size()});
-    for (std::size_t k = 0; k < n; ++k) {
-      if (!(dof[k] >= 1.0 && dof[k] <= 4.0)) continue;
-      const int m = static_cast<int>(dof[k]);
-      const auto [it, added] = dof_of.emplace(sources[k], m);
-      if (it->second != m) continue;
-      rows[sources[k]].first.push_back(t[k]);
-      rows[sources[k]].second.push_back(nis[k]);
-    }
-    for (auto& [source, tv] : rows) {
-      auto values = per_second(tv.first, tv.second);
+    for (const auto& [source, series] : reports::innovations_by_source(*csv)) {
+      const auto [known, added] = dof_of.emplace(source, series.dof);
+      if (known->second != series.dof) continue;  // another dimension than the first run's
+      auto values = per_second(series.t_s, series.nis);
       if (values.empty()) continue;
       auto& cells = by_source[source];
       cells.resize(plan.cells());

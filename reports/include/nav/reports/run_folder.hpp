@@ -29,6 +29,17 @@ struct CsvColumns {
 /// Errors name "file:line".
 Result<CsvColumns> read_csv(const std::string& path, const std::vector<std::string>& text_columns);
 
+/// One measurement's rows of innovations.csv: the dimension of its first row, and the time
+/// and NIS of each of its rows with that dimension.
+struct InnovationSeries {
+  int dof = 0;
+  std::vector<double> t_s, nis;
+};
+
+/// innovations.csv (read with text column "source") by measurement name; rows whose dimension
+/// is not 1..4, or not their measurement's first, are left out.
+std::map<std::string, InnovationSeries> innovations_by_source(const CsvColumns& csv);
+
 /// One pose of a TUM trajectory file.
 struct TumPose {
   double t_s = 0.0;
