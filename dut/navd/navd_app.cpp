@@ -327,17 +327,19 @@ bool NavdApp::handle_ahrs(const protocols::gx3::AccelRateMag& m) {
   if (!wait_delay()) return false;
   // The innovations of the updates made at this sample, then its covariance when the
   // navigator keeps one, right before it (the bench has them when the solution arrives), in
-  // one write.
-  const auto cov = solution_covariance(
-      m.timer_ticks, nav, gps_nav_ ? gps_nav_->attitude() : dvl_nav_->attitude(),
-      gps_nav_ && gps_nav_->position_velocity() ? &*gps_nav_->position_velocity() : nullptr);
-  std::string stated = solution_innovations(
-      m.timer_ticks, gps_nav_ ? gps_nav_->innovations() : dvl_nav_->innovations());
-  if (cov) stated += protocols::navd::encode(*cov);
-  if (!stated.empty() && solution.status != "DEGRADED") {
-    if (auto ok = out_.push(stated); !ok) {
-      stop_reason_ = "output closed: " + ok.error().detail;
-      return false;
+  // one write; neither with a DEGRADED solution.
+  if (solution.status != "DEGRADED") {
+    std::string stated = solution_innovations(
+        m.timer_ticks, gps_nav_ ? gps_nav_->innovations() : dvl_nav_->innovations());
+    const auto cov = solution_covariance(
+        m.timer_ticks, nav, gps_nav_ ? gps_nav_->attitude() : dvl_nav_->attitude(),
+        gps_nav_ && gps_nav_->position_velocity() ? &*gps_nav_->position_velocity() : nullptr);
+    if (cov) stated += protocols::navd::encode(*cov);
+    if (!stated.empty()) {
+      if (auto ok = out_.push(std::move(stated)); !ok) {
+        stop_reason_ = "output closed: " + ok.error().detail;
+        return false;
+      }
     }
   }
   if (auto ok = out_.push(protocols::navd::encode(solution)); !ok) {
