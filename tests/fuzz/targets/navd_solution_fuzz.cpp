@@ -19,51 +19,36 @@ nav::protocols::ParseResult<nmea::Sentence> parse_output(nav::fuzz::ByteSpan buf
   return nmea::parse_with_limit(buffer, navd::kMaxSentence);
 }
 
-/// encode(decode(.)) of a covariance sentence's text; empty when it does not decode.
-std::string covariance_round(const std::string& text) {
+/// encode(decode(.)) of a sentence's text, with `decode` the codec of its kind.
+template <auto decode>
+std::string round_trip(const std::string& text) {
   const auto again =
       nav::fuzz::parse_exactly<nmea::Sentence, &parse_output>(nav::fuzz::bytes_of(text));
-  const auto decoded = navd::decode_covariance(again);
-  NAV_ENSURE(decoded.has_value(), "an encoded covariance does not decode: " + text);
+  const auto decoded = decode(again);
+  NAV_ENSURE(decoded.has_value(), "an encoded sentence does not decode: " + text);
   return navd::encode(*decoded);
 }
 
-void check_covariance(const nmea::Sentence& s) {
-  const auto cov = navd::decode_covariance(s);
-  if (!cov) return;
-  const std::string text = navd::encode(*cov);
-  if (text.size() > navd::kMaxSentence) return;  // huge σ written out: no sentence
-  const std::string once = covariance_round(text);
+/// A covariance or an innovation that decodes is a fixed point of encode(decode(.)) after its
+/// first round (six significant digits).
+template <auto decode>
+void check_rounded(const nmea::Sentence& s) {
+  const auto decoded = decode(s);
+  if (!decoded) return;
+  const std::string text = navd::encode(*decoded);
+  if (text.size() > navd::kMaxSentence) return;  // huge σ or ν written out: no sentence
+  const std::string once = round_trip<decode>(text);
   if (once.size() > navd::kMaxSentence) return;
-  NAV_ENSURE(covariance_round(once) == once, "encode(decode(.)) moves: " + once);
-}
-
-/// encode(decode(.)) of an innovation sentence's text.
-std::string innovation_round(const std::string& text) {
-  const auto again =
-      nav::fuzz::parse_exactly<nmea::Sentence, &parse_output>(nav::fuzz::bytes_of(text));
-  const auto decoded = navd::decode_innovation(again);
-  NAV_ENSURE(decoded.has_value(), "an encoded innovation does not decode: " + text);
-  return navd::encode(*decoded);
-}
-
-void check_innovation(const nmea::Sentence& s) {
-  const auto in = navd::decode_innovation(s);
-  if (!in) return;
-  const std::string text = navd::encode(*in);
-  if (text.size() > navd::kMaxSentence) return;  // huge ν written out: no sentence
-  const std::string once = innovation_round(text);
-  if (once.size() > navd::kMaxSentence) return;
-  NAV_ENSURE(innovation_round(once) == once, "encode(decode(.)) moves: " + once);
+  NAV_ENSURE(round_trip<decode>(once) == once, "encode(decode(.)) moves: " + once);
 }
 
 void check(const nmea::Sentence& s) {
   if (s.talker + s.type == navd::kCovarianceAddress) {
-    check_covariance(s);
+    check_rounded<&navd::decode_covariance>(s);
     return;
   }
   if (s.talker + s.type == navd::kInnovationAddress) {
-    check_innovation(s);
+    check_rounded<&navd::decode_innovation>(s);
     return;
   }
   if (s.talker + s.type != navd::kAddress) return;

@@ -8,17 +8,13 @@
 
 #include <cmath>
 
-#include "nav/protocols/navd_solution.hpp"
+#include "navd_sentence.hpp"
 
 namespace nav::protocols::navd {
 namespace {
 
-nmea::Sentence parsed(const std::string& line) {
-  const auto r = nmea::parse_with_limit(
-      ByteSpan(reinterpret_cast<const std::uint8_t*>(line.data()), line.size()), kMaxSentence);
-  EXPECT_EQ(r.status, ParseStatus::kComplete) << line << r.error;
-  return r.message ? *r.message : nmea::Sentence{};
-}
+using test_support::parsed;
+using test_support::with_fields;
 
 TEST(NavdCovariance, AttitudeOnlyWorkedExample) {
   SolutionCovariance c;
@@ -84,15 +80,7 @@ TEST(NavdCovariance, MalformedFieldsAreRefusedByName) {
       {"1,,,,,,,,,,,,,1,2,nan,0,0,0", "PNVBCOV field attitude.sigma_3 'nan' is not a finite"},
   };
   for (const auto& c : cases) {
-    nmea::Sentence s{"P", "NVBCOV", {}};
-    std::string text = c.fields;
-    for (std::size_t at = 0;;) {
-      const auto comma = text.find(',', at);
-      s.fields.push_back(text.substr(at, comma - at));
-      if (comma == std::string::npos) break;
-      at = comma + 1;
-    }
-    const auto r = decode_covariance(s);
+    const auto r = decode_covariance(with_fields("NVBCOV", c.fields));
     if (c.what == nullptr) {
       EXPECT_TRUE(r) << c.fields;
       continue;

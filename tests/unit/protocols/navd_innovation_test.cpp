@@ -8,17 +8,13 @@
 
 #include <cmath>
 
-#include "nav/protocols/navd_solution.hpp"
+#include "navd_sentence.hpp"
 
 namespace nav::protocols::navd {
 namespace {
 
-nmea::Sentence parsed(const std::string& line) {
-  const auto r = nmea::parse_with_limit(
-      ByteSpan(reinterpret_cast<const std::uint8_t*>(line.data()), line.size()), kMaxSentence);
-  EXPECT_EQ(r.status, ParseStatus::kComplete) << line << r.error;
-  return r.message ? *r.message : nmea::Sentence{};
-}
+using test_support::parsed;
+using test_support::with_fields;
 
 TEST(NavdInnovation, ThreeDimensionalWorkedExample) {
   Innovation i;
@@ -110,16 +106,7 @@ TEST(NavdInnovation, MalformedFieldsAreRefusedByName) {
       {"1,mag,1,nan,1", "PNVBINN field nu_1 'nan' is not a finite number"},
   };
   for (const auto& c : cases) {
-    nmea::Sentence s{"P", "NVBINN", {}};
-    std::string all = c.fields;
-    std::size_t start = 0;
-    for (;;) {
-      const auto comma = all.find(',', start);
-      s.fields.push_back(all.substr(start, comma - start));
-      if (comma == std::string::npos) break;
-      start = comma + 1;
-    }
-    const auto r = decode_innovation(s);
+    const auto r = decode_innovation(with_fields("NVBINN", c.fields));
     if (c.what == nullptr) {
       EXPECT_TRUE(r) << c.fields << ": " << r.error().detail;
     } else {
