@@ -39,4 +39,13 @@ function(nav_add_vcan_test)
   # on this machine (with-vcan --help).
   set_tests_properties(${T_NAME} PROPERTIES LABELS vcan RUN_SERIAL TRUE TIMEOUT 300
     ENVIRONMENT WITH_VCAN_TIMEOUT=280 SKIP_RETURN_CODE 77)
+  nav_not_in_sanitized_build(${T_NAME})
+endfunction()
+
+# nav_not_in_sanitized_build(target): a test program the sanitized folder never runs (vcan:
+# user-mode Linux; golden: the unit tests cover its code; scripts/test) is not built there.
+function(nav_not_in_sanitized_build target)
+  if(NAV_SANITIZE)
+    set_target_properties(${target} PROPERTIES EXCLUDE_FROM_ALL TRUE)
+  endif()
 endfunction()
