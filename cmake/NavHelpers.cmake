@@ -19,6 +19,9 @@ function(nav_add_test)
     list(APPEND props RUN_SERIAL TRUE)
   endif()
   gtest_discover_tests(${T_NAME} PROPERTIES ${props} DISCOVERY_TIMEOUT 60)
+  if(NOT "unit" IN_LIST T_LABELS AND NOT "integration" IN_LIST T_LABELS)
+    nav_not_in_sanitized_build(${T_NAME})
+  endif()
 endfunction()
 
 # nav_add_vcan_test(NAME n SOURCES s... LIBS l...): a GoogleTest binary that needs vcan0.
@@ -42,8 +45,9 @@ function(nav_add_vcan_test)
   nav_not_in_sanitized_build(${T_NAME})
 endfunction()
 
-# nav_not_in_sanitized_build(target): a test program the sanitized folder never runs (vcan:
-# user-mode Linux; golden: the unit tests cover its code; scripts/test) is not built there.
+# nav_not_in_sanitized_build(target): the sanitized folder runs only the tests labelled unit or
+# integration (scripts/test --sanitize); a test program with neither label (vcan: user-mode
+# Linux; golden: the unit tests cover its code) is not built there.
 function(nav_not_in_sanitized_build target)
   if(NAV_SANITIZE)
     set_target_properties(${target} PROPERTIES EXCLUDE_FROM_ALL TRUE)

@@ -338,7 +338,8 @@ bool NavdApp::handle_ahrs(const protocols::gx3::AccelRateMag& m) {
         gps_nav_ && gps_nav_->position_velocity() ? &*gps_nav_->position_velocity() : nullptr);
     if (cov) stated += protocols::navd::encode(*cov);
   }
-  if (auto ok = out_.push(stated + protocols::navd::encode(solution)); !ok) {
+  stated += protocols::navd::encode(solution);
+  if (auto ok = out_.push(std::move(stated)); !ok) {
     stop_reason_ = "output closed: " + ok.error().detail;
     return false;
   }

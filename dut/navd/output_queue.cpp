@@ -6,21 +6,21 @@
 
 namespace nav::dut {
 
-Result<void> OutputQueue::push(std::string sentence) {
-  // Drop the oldest sentences that have not started on the wire (a started one must finish,
-  // or the reader would see a torn sentence).
+Result<void> OutputQueue::push(std::string sentences) {
+  // Drop the oldest pushes that have not started on the wire (a started one must finish, or
+  // the reader would see a torn sentence).
   const std::size_t first_droppable = front_offset_ > 0 ? 1 : 0;
-  while (pending_bytes_ + sentence.size() > max_bytes_ && queue_.size() > first_droppable) {
+  while (pending_bytes_ + sentences.size() > max_bytes_ && queue_.size() > first_droppable) {
     auto victim = queue_.begin() + static_cast<std::ptrdiff_t>(first_droppable);
     pending_bytes_ -= victim->size();
     queue_.erase(victim);
     ++dropped_;
   }
-  if (pending_bytes_ + sentence.size() > max_bytes_) {
+  if (pending_bytes_ + sentences.size() > max_bytes_) {
     ++dropped_;  // larger than the whole bound: cannot be queued at all
   } else {
-    pending_bytes_ += sentence.size();
-    queue_.push_back(std::move(sentence));
+    pending_bytes_ += sentences.size();
+    queue_.push_back(std::move(sentences));
   }
   return flush();
 }

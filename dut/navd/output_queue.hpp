@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: MIT
 // Non-blocking writer of whole sentences to the output port. navd must never block on its
 // output: what the line does not take now waits here, bounded; when the bound would be
-// exceeded the oldest sentences not yet started are dropped (counted), so the stream on the
-// wire only ever carries whole sentences and the newest solutions win.
+// exceeded the oldest pushes not yet started are dropped (counted), so the stream on the
+// wire only ever carries whole sentences and the newest solutions win. navd pushes a
+// packet's sentences (innovations, covariance, solution) as one.
 #pragma once
 
 #include <cstddef>
@@ -21,18 +22,19 @@ class OutputQueue {
   OutputQueue(transport::SerialPort& port, std::size_t max_bytes)
       : port_(port), max_bytes_(max_bytes) {}
 
-  /// Queues one sentence (dropping old ones if needed) and writes what the port takes.
+  /// Queues whole sentences, kept or dropped together (dropping old pushes if needed), and
+  /// writes what the port takes.
   /// An error means the output hung up or failed.
-  Result<void> push(std::string sentence);
+  Result<void> push(std::string sentences);
 
   /// Writes what the port takes now, never blocking. Error: hang-up or failure.
   Result<void> flush();
 
   bool empty() const { return queue_.empty(); }
-  std::size_t queued() const { return queue_.size(); }  ///< sentences not completely written
+  std::size_t queued() const { return queue_.size(); }  ///< pushes not completely written
   std::size_t pending_bytes() const { return pending_bytes_; }  ///< [bytes]
-  std::uint64_t written() const { return written_; }  ///< sentences completely written
-  std::uint64_t dropped() const { return dropped_; }  ///< sentences dropped by the bound
+  std::uint64_t written() const { return written_; }  ///< pushes completely written
+  std::uint64_t dropped() const { return dropped_; }  ///< pushes dropped by the bound
 
  private:
   transport::SerialPort& port_;
