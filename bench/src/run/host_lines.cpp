@@ -1,9 +1,12 @@
 // SPDX-License-Identifier: MIT
 #include "run/host_lines.hpp"
 
+#include <poll.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
+#include <chrono>
 #include <cerrno>
 #include <mutex>
 #include <optional>
@@ -80,10 +83,15 @@ struct HostLines::Io {
   }
 };
 
-HostLines::HostLines(EventLoop& loop, const std::vector<int>& fds, std::function<void()> on_news)
+HostLines::HostLines(EventLoop& loop, const std::vector<int>& fds, std::function<void()> on_news,
+                     Reader reader)
     : loop_(loop), io_(std::make_unique<Io>()) {
   io_->on_news = std::move(on_news);
   io_->lines.resize(fds.size());
+  if (reader == Reader::kTakeOnly) {
+    for (std::uint32_t i = 0; i < fds.size(); ++i) io_->lines[i].fd = fds[i];
+    return;
+  }
   loop_.call([&] {
     for (std::uint32_t i = 0; i < fds.size(); ++i) {
       if (fds[i] < 0) continue;
@@ -120,6 +128,29 @@ std::vector<HostLines::Received> HostLines::take() {
     l.queue.clear();
   }
   return out;
+}
+
+void HostLines::wait_readable(Timestamp until) const {
+  std::vector<pollfd> fds;
+  for (const auto& l : io_->lines) {
+    if (l.fd >= 0) fds.push_back(pollfd{l.fd, POLLIN, 0});
+  }
+  for (;;) {
+    const Duration left = until - monotonic_now();
+    if (left <= Duration{0}) return;
+    // Rounded up: a wait does not end before `until` for want of a millisecond.
+    const auto ms = std::chrono::ceil<std::chrono::milliseconds>(left).count();
+    const int n = ::poll(fds.data(), fds.size(), static_cast<int>(std::min<long long>(ms, 1000)));
+    if (n <= 0) return;  // the time is up (or a signal: the caller looks at stop)
+    // Bytes to read end the wait; a line hung up or in error (its DUT closed it) would end
+    // every poll at once, so it is left out of the rest of this wait.
+    std::vector<pollfd> still;
+    for (const auto& p : fds) {
+      if ((p.revents & POLLIN) != 0) return;
+      if (p.revents == 0) still.push_back(pollfd{p.fd, POLLIN, 0});
+    }
+    fds.swap(still);
+  }
 }
 
 std::vector<HostLines::Received> HostLines::take_ready() {

@@ -63,10 +63,13 @@ ReactiveDevices::ReactiveDevices(const Scenario& sc, const std::vector<RunDevice
     }
   }
   if (any) {
-    host_lines_ = std::make_unique<HostLines>(loop, fds, [&loop, &news] {
-      news.notify();
-      loop.poke();  // a wait on the loop for a start command or an answer
-    });
+    host_lines_ = std::make_unique<HostLines>(
+        loop, fds,
+        [&loop, &news] {
+          news.notify();
+          loop.poke();  // a wait on the loop for a start command or an answer
+        },
+        sc.mode == TimeMode::kLockstep ? HostLines::Reader::kTakeOnly : HostLines::Reader::kLoop);
   }
 }
 
@@ -77,6 +80,14 @@ void ReactiveDevices::queue_answer(std::uint32_t d, emulators::WireMessage m) {
       answers_.begin(), answers_.end(), m.t_send,
       [](Duration ts, const Answer& x) { return ts < x.message.t_send; });
   answers_.insert(at, Answer{d, std::move(m)});
+}
+
+void ReactiveDevices::wait_for_host_bytes(Timestamp until, const std::atomic<bool>& stop) {
+  if (sc_.mode == TimeMode::kLockstep && host_lines_) {
+    host_lines_->wait_readable(until);
+  } else {
+    news_.wait_until(until, stop);
+  }
 }
 
 void ReactiveDevices::poll_host_lines(Duration scenario_t) {

@@ -9,6 +9,7 @@
 //   send_due_answers(t) <-- queued answers and channel deliveries due by t --> DUT's lines
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <deque>
 #include <memory>
@@ -33,7 +34,7 @@ class ReactiveDevices {
  public:
   /// lines: one per device (devices order); log: captures, tally and lateness it adds to.
   /// The devices' truths (RunDevice::truth) place a Keller's sensor and each modem. The
-  /// lines are read on loop, which notifies news when the DUT wrote to one.
+  /// lines are read on loop, which notifies news when the DUT wrote to one (realtime).
   ReactiveDevices(const Scenario& sc, const std::vector<RunDevice>& devices,
                   std::vector<BenchLine>& lines, RunLog& log, EventLoop& loop, Wakeup& news);
   ~ReactiveDevices();
@@ -43,8 +44,12 @@ class ReactiveDevices {
 
   /// Whether any line must be read while the bench waits (a polled device or a modem).
   bool any_to_read() const { return any_to_read_; }
-  /// Notified when the DUT wrote to a GX3's, polled device's or modem's line.
+  /// Notified when the DUT wrote to a GX3's, polled device's or modem's line (realtime: in
+  /// lockstep the lines are read only by poll_host_lines()).
   Wakeup& news() { return news_; }
+  /// Sleeps until the DUT wrote to one of those lines, CLOCK_MONOTONIC time `until`, or
+  /// (realtime) stop.
+  void wait_for_host_bytes(Timestamp until, const std::atomic<bool>& stop);
   /// Whether device d sends its stream: a GX3 only once it got the set-continuous command
   /// (unless `continuous`), every other device always.
   bool streaming(std::uint32_t d) const { return streaming_[d] != 0; }

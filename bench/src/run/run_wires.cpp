@@ -165,7 +165,7 @@ PlayHost::Begin RunWires::begin(std::uint32_t k) {
   if (failed_) return Begin::kStop;  // a CAN trigger went unanswered
   if (lockstep_ && !reactive.streaming(m.device) && is_trigger(k) && veh.triggers_sent == 0) {
     // The first trigger waits for the DUT's start command, as long as the watchdog allows;
-    // the event loop wakes the wait when the DUT writes to a device line.
+    // the wait ends when the DUT writes to a device line.
     const Timestamp wait_end = monotonic_now() + veh.dut->watchdog;
     for (;;) {
       reactive.poll_host_lines(m.start);
@@ -178,7 +178,7 @@ PlayHost::Begin RunWires::begin(std::uint32_t k) {
         watch.set_hung(veh, t);
         return Begin::kStop;
       }
-      reactive.news().wait_until(std::min(wait_end, monotonic_now() + kWaitSlice), *p_.stop);
+      reactive.wait_for_host_bytes(std::min(wait_end, monotonic_now() + kWaitSlice), *p_.stop);
     }
   }
   // A GX3 not (yet) told to stream sends nothing.

@@ -2,9 +2,11 @@
 // The reactive devices' lines read on the event loop (bench/src/run/host_lines.hpp), on real
 // ptys: what a DUT writes to a slave is read by the loop, stamped and announced; take() also
 // reads what the loop has not yet seen, so nothing written before it is missed (lockstep);
-// take_ready() hands over what the loop read; lines not asked for are never read.
+// take_ready() hands over what the loop read; lines not asked for are never read. In lockstep
+// (Reader::kTakeOnly) only take() reads, and wait_readable() waits on the lines themselves.
 #include <fcntl.h>
 #include <poll.h>
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <gtest/gtest.h>
@@ -12,6 +14,7 @@
 #include <atomic>
 #include <chrono>
 #include <string>
+#include <thread>
 
 #include "nav/transport/pty.hpp"
 #include "run/event_loop.hpp"
@@ -29,6 +32,13 @@ struct Dut {
   void write(const std::string& s) const { ASSERT_EQ(::write(fd, s.data(), s.size()), static_cast<ssize_t>(s.size())); }
   int fd;
 };
+
+double thread_cpu_s() {
+  rusage u{};
+  ::getrusage(RUSAGE_THREAD, &u);
+  return static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
+         static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec) * 1e-6;
+}
 
 std::string text(const std::vector<HostLines::Received>& got, std::uint32_t line) {
   std::string s;
@@ -108,6 +118,42 @@ TEST(HostLines, TakeReadsEverythingWrittenBeforeItLineByLineAndSkipsLinesNotAske
     if (got > 0) n += static_cast<std::size_t>(got);
   }
   EXPECT_EQ(n, 400u);
+}
+
+TEST(HostLines, TakeOnlyLeavesTheLinesToTakeAndWaitsOnThemItself) {
+  auto a = transport::Pty::open();
+  ASSERT_TRUE(a);
+  Dut da(*a);
+  // A line whose other end is gone (a serial adapter unplugged; here a pipe whose writer is
+  // closed): hung up, always "ready", never bytes. It must not end a wait early.
+  int gone[2];
+  ASSERT_EQ(::pipe2(gone, O_NONBLOCK | O_CLOEXEC), 0);
+  ::close(gone[1]);
+  EventLoop loop;
+  std::atomic<int> told{0};
+  HostLines lines(loop, {a->master(), gone[0]}, [&] { ++told; }, HostLines::Reader::kTakeOnly);
+  const Timestamp t0 = monotonic_now();
+  const double cpu0 = thread_cpu_s();
+  lines.wait_readable(t0 + 150ms);
+  EXPECT_GE(monotonic_now(), t0 + 150ms);
+  EXPECT_LT(thread_cpu_s() - cpu0, 0.075);  // it slept, it did not spin on the hung-up line
+
+  // Bytes written while the wait runs end it (long before its 20 s).
+  std::thread writer([&] {
+    std::this_thread::sleep_for(50ms);
+    da.write("#01\r\n");
+  });
+  const Timestamp t1 = monotonic_now();
+  lines.wait_readable(t1 + 20s);
+  writer.join();
+  EXPECT_LT(monotonic_now(), t1 + 10s);
+  const auto got = lines.take();
+  EXPECT_EQ(text(got, 0), "#01\r\n");
+  EXPECT_EQ(told.load(), 0);  // the loop read nothing and told nobody
+  // Written before take(): taken, whole, even though nobody waited.
+  da.write("#02\r\n");
+  EXPECT_EQ(text(lines.take(), 0), "#02\r\n");
+  ::close(gone[0]);
 }
 
 }  // namespace
