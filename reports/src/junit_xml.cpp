@@ -24,7 +24,7 @@ void write_junit(const RunRecord& r, const std::string& dir) {
     else if (!c.passed) ++failures;
   }
   OutputFile f(dir, "junit.xml");
-  auto& o = *f;
+  auto& o = f;
   o << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
     << "<testsuites>\n<testsuite name=\"" << xml_escape(r.scenario_name) << "\" tests=\""
     << r.checks.size() << "\" failures=\"" << failures << "\" skipped=\"" << skipped

@@ -1,57 +1,87 @@
 // SPDX-License-Identifier: MIT
 // One report file being written: opened at construction, checked when it closes. Private to
 // nav_reports.
+//
+// Text goes into a buffer written out in large pieces; doubles in fixed notation through
+// std::to_chars: the digits of printf's %.*f (9 decimals unless told otherwise) without the C
+// library's formatting machinery or an ostream's per-character output, which took most of
+// the time of writing a long run's tables (docs/design-notes.md, "Campaign speed").
 #pragma once
 
 #include <charconv>
+#include <concepts>
 #include <exception>
 #include <fstream>
-#include <locale>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 namespace nav::reports::detail {
-
-/// Doubles in fixed notation through std::to_chars: the digits of printf's %.*f without the C
-/// library's formatting machinery, which took most of the time of writing a long run's tables
-/// (140–190 ms of a P0 run, 48 ms this way). Anything else goes the usual way.
-class FixedNumPut : public std::num_put<char> {
- protected:
-  iter_type do_put(iter_type out, std::ios_base& str, char fill, double v) const override {
-    const auto flags = str.flags();
-    if ((flags & std::ios_base::floatfield) != std::ios_base::fixed || str.width() != 0 ||
-        (flags & (std::ios_base::showpos | std::ios_base::showpoint | std::ios_base::uppercase))) {
-      return std::num_put<char>::do_put(out, str, fill, v);
-    }
-    char buf[400];
-    const auto r = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::fixed,
-                                 static_cast<int>(str.precision()));
-    if (r.ec != std::errc{}) return std::num_put<char>::do_put(out, str, fill, v);
-    for (const char* p = buf; p != r.ptr; ++p) *out++ = *p;
-    return out;
-  }
-};
 
 class OutputFile {
  public:
   OutputFile(const std::string& dir, const std::string& name)
       : path_(dir + "/" + name), out_(path_, std::ios::binary) {
     if (!out_) throw std::runtime_error("cannot write " + path_);
-    out_.imbue(std::locale(out_.getloc(), new FixedNumPut));
-    out_.precision(9);
-    out_ << std::fixed;
+    buf_.reserve(kChunk + 512);
   }
   ~OutputFile() noexcept(false) {
+    write_out();
     out_.flush();
     if (!out_ && std::uncaught_exceptions() == 0) throw std::runtime_error("write failed: " + path_);
   }
   OutputFile(const OutputFile&) = delete;
   OutputFile& operator=(const OutputFile&) = delete;
-  std::ofstream& operator*() { return out_; }
+
+  /// Decimals of the doubles that follow (fixed notation).
+  void precision(int decimals) { precision_ = decimals; }
+
+  OutputFile& operator<<(double v) {
+    char b[400];
+    const auto r = std::to_chars(b, b + sizeof b, v, std::chars_format::fixed, precision_);
+    if (r.ec == std::errc{}) {
+      append(std::string_view(b, static_cast<std::size_t>(r.ptr - b)));
+    } else {
+      append(std::to_string(v));  // beyond 400 characters: not a number a run writes
+    }
+    return *this;
+  }
+  template <std::integral T>
+    requires(!std::same_as<T, char> && !std::same_as<T, bool>)
+  OutputFile& operator<<(T v) {
+    char b[24];
+    const auto r = std::to_chars(b, b + sizeof b, v);
+    append(std::string_view(b, static_cast<std::size_t>(r.ptr - b)));
+    return *this;
+  }
+  OutputFile& operator<<(char c) {
+    buf_.push_back(c);
+    if (buf_.size() >= kChunk) write_out();
+    return *this;
+  }
+  OutputFile& operator<<(std::string_view s) {
+    append(s);
+    return *this;
+  }
+  OutputFile& operator<<(const char* s) { return *this << std::string_view(s); }
+  OutputFile& operator<<(const std::string& s) { return *this << std::string_view(s); }
 
  private:
+  static constexpr std::size_t kChunk = 64 * 1024;
+
+  void append(std::string_view s) {
+    buf_.append(s);
+    if (buf_.size() >= kChunk) write_out();
+  }
+  void write_out() {
+    out_.write(buf_.data(), static_cast<std::streamsize>(buf_.size()));
+    buf_.clear();
+  }
+
   std::string path_;
   std::ofstream out_;
+  std::string buf_;
+  int precision_ = 9;
 };
 
 }  // namespace nav::reports::detail

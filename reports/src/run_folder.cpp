@@ -2,12 +2,15 @@
 #include "nav/reports/run_folder.hpp"
 
 #include <algorithm>
+#include <array>
 #include <charconv>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <optional>
 #include <sstream>
+#include <string_view>
 
 namespace nav::reports {
 namespace {
@@ -15,19 +18,20 @@ namespace {
 namespace fs = std::filesystem;
 using json = nlohmann::json;
 
-std::vector<std::string> split(const std::string& line, char sep) {
-  std::vector<std::string> out;
+/// The fields of a line between separators, into out (reused from line to line).
+void split(std::string_view line, char sep, std::vector<std::string_view>& out) {
+  out.clear();
   std::size_t start = 0;
   for (;;) {
     const auto at = line.find(sep, start);
-    out.push_back(line.substr(start, at - start));
-    if (at == std::string::npos) return out;
+    out.push_back(line.substr(start, at == std::string_view::npos ? std::string_view::npos : at - start));
+    if (at == std::string_view::npos) return;
     start = at + 1;
   }
 }
 
 /// A decimal number (from_chars: no leading '+', no spaces); NaN for an empty field.
-bool parse_number(const std::string& text, double& v) {
+bool parse_number(std::string_view text, double& v) {
   if (text.empty()) {
     v = std::numeric_limits<double>::quiet_NaN();
     return true;
@@ -36,13 +40,41 @@ bool parse_number(const std::string& text, double& v) {
   return ec == std::errc{} && end == text.data() + text.size();
 }
 
-Error damaged(const std::string& path, std::size_t line, const std::string& what) {
-  return Error{ErrorCode::kParse, path + ":" + std::to_string(line) + ": " + what};
+/// A whole file's text, or nothing when it cannot be read.
+std::optional<std::string> slurp(const std::string& path) {
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
+  if (!in) return std::nullopt;
+  const std::streamoff size = in.tellg();
+  if (size < 0) return std::nullopt;
+  std::string text(static_cast<std::size_t>(size), '\0');
+  in.seekg(0);
+  in.read(text.data(), static_cast<std::streamsize>(size));
+  text.resize(static_cast<std::size_t>(std::max<std::streamsize>(in.gcount(), 0)));
+  if (in.bad()) return std::nullopt;
+  return text;
 }
 
-std::string strip_cr(std::string s) {
-  if (!s.empty() && s.back() == '\r') s.pop_back();
-  return s;
+/// The lines of a text, as std::getline finds them, each without its '\n' and a '\r' before it.
+class Lines {
+ public:
+  explicit Lines(std::string_view text) : text_(text) {}
+  bool next(std::string_view& line) {
+    if (pos_ >= text_.size()) return false;
+    const auto nl = text_.find('\n', pos_);
+    const std::size_t end = nl == std::string_view::npos ? text_.size() : nl;
+    line = text_.substr(pos_, end - pos_);
+    pos_ = end + 1;
+    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    return true;
+  }
+
+ private:
+  std::string_view text_;
+  std::size_t pos_ = 0;
+};
+
+Error damaged(const std::string& path, std::size_t line, const std::string& what) {
+  return Error{ErrorCode::kParse, path + ":" + std::to_string(line) + ": " + what};
 }
 
 /// The last kDutLogTailBytes of a file, from a line start.
@@ -111,44 +143,41 @@ std::map<std::string, InnovationSeries> innovations_by_source(const CsvColumns& 
 }
 
 Result<CsvColumns> read_csv(const std::string& path, const std::vector<std::string>& text_columns) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return fail(ErrorCode::kNotFound, path + ": cannot be read");
-  std::string line;
-  if (!std::getline(in, line)) return tl::unexpected(damaged(path, 1, "empty file, expected a header line"));
-  const auto names = split(strip_cr(line), ',');
-  std::vector<bool> is_text;
+  const auto text = slurp(path);
+  if (!text) return fail(ErrorCode::kNotFound, path + ": cannot be read");
+  Lines lines(*text);
+  std::string_view line;
+  if (!lines.next(line)) return tl::unexpected(damaged(path, 1, "empty file, expected a header line"));
+  std::vector<std::string_view> fields;
+  split(line, ',', fields);
+  const std::vector<std::string> names(fields.begin(), fields.end());
   CsvColumns out;
-  for (const auto& n : names) {
-    const bool text = std::find(text_columns.begin(), text_columns.end(), n) != text_columns.end();
-    is_text.push_back(text);
-    if (text) out.texts[n];
-    else out.numbers[n];
-  }
   std::vector<std::vector<double>*> num(names.size(), nullptr);
   std::vector<std::vector<std::string>*> txt(names.size(), nullptr);
   for (std::size_t c = 0; c < names.size(); ++c) {
-    if (is_text[c]) txt[c] = &out.texts[names[c]];
+    const bool is_text =
+        std::find(text_columns.begin(), text_columns.end(), names[c]) != text_columns.end();
+    if (is_text) txt[c] = &out.texts[names[c]];
     else num[c] = &out.numbers[names[c]];
   }
   std::size_t line_no = 1;
-  while (std::getline(in, line)) {
+  while (lines.next(line)) {
     ++line_no;
-    line = strip_cr(line);
     if (line.empty()) continue;
-    const auto fields = split(line, ',');
+    split(line, ',', fields);
     if (fields.size() != names.size()) {
       return tl::unexpected(damaged(path, line_no, "expected " + std::to_string(names.size()) +
                                                        " fields, got " + std::to_string(fields.size())));
     }
     for (std::size_t c = 0; c < fields.size(); ++c) {
       if (txt[c]) {
-        txt[c]->push_back(fields[c]);
+        txt[c]->emplace_back(fields[c]);
         continue;
       }
       double v = 0.0;
       if (!parse_number(fields[c], v)) {
         return tl::unexpected(damaged(path, line_no, "column " + names[c] + ": expected a number, got '" +
-                                                         fields[c].substr(0, 40) + "'"));
+                                                         std::string(fields[c].substr(0, 40)) + "'"));
       }
       num[c]->push_back(v);
     }
@@ -158,16 +187,17 @@ Result<CsvColumns> read_csv(const std::string& path, const std::vector<std::stri
 }
 
 Result<std::vector<TumPose>> read_tum(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return fail(ErrorCode::kNotFound, path + ": cannot be read");
+  const auto text = slurp(path);
+  if (!text) return fail(ErrorCode::kNotFound, path + ": cannot be read");
+  Lines lines(*text);
   std::vector<TumPose> out;
-  std::string line;
+  std::vector<std::string_view> fields;
+  std::string_view line;
   std::size_t line_no = 0;
-  while (std::getline(in, line)) {
+  while (lines.next(line)) {
     ++line_no;
-    line = strip_cr(line);
     if (line.empty() || line.front() == '#') continue;
-    const auto fields = split(line, ' ');
+    split(line, ' ', fields);
     std::array<double, 8> v{};
     if (fields.size() != v.size()) {
       return tl::unexpected(damaged(path, line_no, "expected 8 numbers (t x y z qx qy qz qw), got " +
@@ -175,7 +205,8 @@ Result<std::vector<TumPose>> read_tum(const std::string& path) {
     }
     for (std::size_t k = 0; k < v.size(); ++k) {
       if (!parse_number(fields[k], v[k]) || std::isnan(v[k])) {
-        return tl::unexpected(damaged(path, line_no, "expected a number, got '" + fields[k].substr(0, 40) + "'"));
+        return tl::unexpected(damaged(path, line_no, "expected a number, got '" +
+                                                         std::string(fields[k].substr(0, 40)) + "'"));
       }
     }
     out.push_back({v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7]});

@@ -15,21 +15,21 @@ using units::rad_to_deg;
 constexpr const char* kTumHeader =
     "# timestamp[s] north[m] east[m] down[m] qx qy qz qw (q_nb, body FRD -> NED)\n";
 
-void write_tum_line(std::ostream& o, double t, const Vec3& p, const Quat& q) {
+void write_tum_line(OutputFile& o, double t, const Vec3& p, const Quat& q) {
   o << t << ' ' << p.x() << ' ' << p.y() << ' ' << p.z() << ' ' << q.x() << ' ' << q.y() << ' '
     << q.z() << ' ' << q.w() << '\n';
 }
 
 void write_truth(const VehicleTrack& v, const std::string& dir, const std::string& name) {
   OutputFile f(dir, name);
-  *f << kTumHeader;
-  for (const auto& t : v.truth) write_tum_line(*f, t.t_s, t.p_n, t.q_nb);
+  f << kTumHeader;
+  for (const auto& t : v.truth) write_tum_line(f, t.t_s, t.p_n, t.q_nb);
 }
 
 void write_estimate(const VehicleTrack& v, const std::string& dir, const std::string& name) {
   OutputFile f(dir, name);
-  *f << kTumHeader;
-  for (const auto& a : v.aligned) write_tum_line(*f, a.t_s, a.est_p_n, a.est_q_nb);
+  f << kTumHeader;
+  for (const auto& a : v.aligned) write_tum_line(f, a.t_s, a.est_p_n, a.est_q_nb);
 }
 
 /// dir/alias as the same file as dir/name: a hard link, or a copy where links cannot be made.
@@ -63,7 +63,7 @@ void write_trajectories(const RunRecord& r, const std::string& dir) {
 
 void write_timeseries(const RunRecord& r, const std::string& dir) {
   OutputFile f(dir, "timeseries.csv");
-  auto& o = *f;
+  auto& o = f;
   o << "t_s,truth_n_m,truth_e_m,truth_d_m,est_n_m,est_e_m,est_d_m,err_horizontal_m,"
        "err_vertical_m,truth_roll_deg,truth_pitch_deg,truth_yaw_deg,est_roll_deg,"
        "est_pitch_deg,est_yaw_deg,err_attitude_deg,distance_m,nees_position,nees_attitude\n";
@@ -91,7 +91,7 @@ void write_innovations(const RunRecord& r, const std::string& dir) {
   // Only when the DUT stated innovations ($PNVBINN): most DUTs state none.
   if (r.vehicles.empty() || r.vehicles.front().innovations.empty()) return;
   OutputFile f(dir, "innovations.csv");
-  auto& o = *f;
+  auto& o = f;
   o << "t_s,source,dof,nis\n";
   for (const auto& i : r.vehicles.front().innovations) {
     o << i.t_s << ',' << i.source << ',' << i.dof << ',' << i.nis << '\n';
@@ -101,33 +101,33 @@ void write_innovations(const RunRecord& r, const std::string& dir) {
 void write_latency(const RunRecord& r, const std::string& dir) {
   {
     OutputFile f(dir, "latency.csv");
-    *f << "tag,t_valid_s,wire_end_s,rx_s,latency_ms,missed\n";
+    f << "tag,t_valid_s,wire_end_s,rx_s,latency_ms,missed\n";
     for (const auto& l : r.latency) {
-      *f << l.tag << ',' << l.t_valid_s << ',' << l.wire_end_s << ',';
-      if (l.rx_s) *f << *l.rx_s << ',' << (*l.rx_s - l.wire_end_s) * 1e3;
-      else *f << ',';
-      *f << ',' << (l.missed ? 1 : 0) << '\n';
+      f << l.tag << ',' << l.t_valid_s << ',' << l.wire_end_s << ',';
+      if (l.rx_s) f << *l.rx_s << ',' << (*l.rx_s - l.wire_end_s) * 1e3;
+      else f << ',';
+      f << ',' << (l.missed ? 1 : 0) << '\n';
     }
   }
   OutputFile f(dir, "lateness.csv");
   // A timing audit adds when the witness read each message (empty: not seen intact).
-  *f << "device,scheduled_s,actual_s,lateness_us"
+  f << "device,scheduled_s,actual_s,lateness_us"
      << (r.witness_run ? ",arrived_s,arrival_lateness_us\n" : "\n");
   for (const auto& l : r.lateness) {
-    *f << l.device << ',' << l.scheduled_s << ',' << l.actual_s << ','
+    f << l.device << ',' << l.scheduled_s << ',' << l.actual_s << ','
        << (l.actual_s - l.scheduled_s) * 1e6;
     if (r.witness_run) {
-      *f << ',';
-      if (l.arrived_s) *f << *l.arrived_s << ',' << (*l.arrived_s - l.scheduled_s) * 1e6;
-      else *f << ',';
+      f << ',';
+      if (l.arrived_s) f << *l.arrived_s << ',' << (*l.arrived_s - l.scheduled_s) * 1e6;
+      else f << ',';
     }
-    *f << '\n';
+    f << '\n';
   }
 }
 
 void write_device_rates(const RunRecord& r, const std::string& dir) {
   OutputFile f(dir, "device-rates.csv");
-  auto& o = *f;
+  auto& o = f;
   o << "t_s,device,messages,bytes,bytes_dropped\n";
   o.precision(0);
   for (const auto& d : r.devices) {

@@ -236,7 +236,7 @@ void write_summary(const RunRecord& r, const std::string& dir) {
     j["witness"] = std::move(w);
   }
   OutputFile f(dir, "summary.json");
-  *f << dump_json(j, 2) << '\n';
+  f << dump_json(j, 2) << '\n';
 }
 
 }  // namespace nav::reports::detail

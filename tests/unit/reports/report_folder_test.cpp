@@ -36,6 +36,35 @@ TEST(RunFolder, ReadsWhatTheWritersWrote) {
   EXPECT_EQ(slurp(dir / "truth-auv.tum"), slurp(dir / "truth.tum"));
 }
 
+TEST(RunTables, NumbersAreWrittenAsPrintfWritesThemWithNineDecimals) {
+  const auto dir = fresh_dir("tables");
+  RunRecord r = synthetic_run(2, 10);
+  auto& truth = r.vehicles.front().truth;
+  truth[1].p_n = Vec3(-0.0, 1e-12, -123456.0000000005);
+  truth[2].p_n = Vec3(5e15, -2.5e-10, 0.1);
+  r.latency.front().tag = 18446744073709551615ull;
+  write_reports(r, dir.string());
+  std::vector<std::string> want;
+  for (const auto& t : truth) {
+    char line[400];
+    std::snprintf(line, sizeof line, "%.9f %.9f %.9f %.9f %.9f %.9f %.9f %.9f", t.t_s, t.p_n.x(),
+                  t.p_n.y(), t.p_n.z(), t.q_nb.x(), t.q_nb.y(), t.q_nb.z(), t.q_nb.w());
+    want.push_back(line);
+  }
+  std::istringstream tum(slurp(dir / "truth.tum"));
+  std::string line;
+  std::getline(tum, line);  // the header
+  for (const auto& w : want) {
+    ASSERT_TRUE(std::getline(tum, line));
+    EXPECT_EQ(line, w);
+  }
+  EXPECT_FALSE(std::getline(tum, line));
+  std::istringstream latency(slurp(dir / "latency.csv"));
+  std::getline(latency, line);
+  std::getline(latency, line);
+  EXPECT_EQ(line.substr(0, line.find(',')), "18446744073709551615");
+}
+
 TEST(RunFolder, AnOlderRunFolderIsReportedWithWhatItLacksMarked) {
   const auto dir = fresh_dir("older");
   write_reports(synthetic_run(20, 10), dir.string());
@@ -149,6 +178,17 @@ TEST(CsvAndTum, ParseTheBenchsOwnFormats) {
   EXPECT_EQ((*tum)[0].e, 3.0);
   std::ofstream(dir / "b.tum") << "1 2 3 4 0 0 0 nan\n";
   EXPECT_FALSE(read_tum((dir / "b.tum").string()).has_value());
+  // The last line without its newline is a line; an empty file has no header.
+  std::ofstream(dir / "c.csv") << "x,y\n1,2\n3,4";
+  const auto c = read_csv((dir / "c.csv").string(), {});
+  ASSERT_TRUE(c.has_value()) << c.error().detail;
+  EXPECT_EQ(c->rows, 2u);
+  EXPECT_EQ((*c)["y"][1], 4.0);
+  std::ofstream(dir / "d.csv") << "";
+  const auto d = read_csv((dir / "d.csv").string(), {});
+  ASSERT_FALSE(d.has_value());
+  EXPECT_NE(d.error().detail.find("d.csv:1: empty file"), std::string::npos) << d.error().detail;
+  EXPECT_FALSE(read_csv((dir / "none.csv").string(), {}).has_value());
 }
 
 }  // namespace
