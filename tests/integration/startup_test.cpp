@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: MIT
 // The DUT's startup in lockstep: navd says READY=1 (sd_notify) once its ports are open, and
 // the run starts then instead of after its whole dut.startup, its times counted from then; a
-// DUT that cannot say so gets the whole startup.
+// DUT that cannot say so gets the whole startup. As root, a lockstep DUT runs at SCHED_RR.
+#include <unistd.h>
+
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -23,6 +25,51 @@ double first_capture_time(const fs::path& capture) {
   double t = -1e9;
   if (std::getline(in, line)) (void)std::sscanf(line.c_str(), "(%lf)", &t);
   return t;
+}
+
+/// ready_lockstep.yaml with navd started by a script that first writes its own scheduling
+/// policy to dut.log (`chrt -p`): in lockstep once it is SCHED_RR (or after 5 s), in realtime
+/// after 0.5 s.
+std::string policy_reporting_scenario(const std::string& mode) {
+  std::string text = slurp(source_path("tests/integration/scenarios/ready_lockstep.yaml"));
+  const std::string wait =
+      mode == "lockstep"
+          ? "for i in $(seq 50); do chrt -p $$ | grep -q SCHED_RR && break; sleep 0.1; done; "
+          : "sleep 0.5; ";
+  // Not regex_replace: its replacement text gives '$' a meaning.
+  const std::string navd = "command: [navd,";
+  const auto at = text.find(navd);
+  if (at == std::string::npos) return {};
+  text.replace(at, navd.size(),
+               "command: [sh, -c, '" + wait + "chrt -p $$ >&2; exec " +
+                   std::string(NAV_BINARY_DIR) + "/navd \"$@\"', sh,");
+  text = std::regex_replace(text, std::regex("mode: lockstep"), "mode: " + mode);
+  // Lockstep starts when navd says it is ready; realtime waits the whole startup.
+  text = std::regex_replace(text, std::regex("startup: 60 s"),
+                            mode == "lockstep" ? "startup: 8 s" : "startup: 2 s");
+  return text;
+}
+
+// As root, a lockstep run's DUT runs at SCHED_RR 10, its own children as usual; a realtime
+// run's DUT is left alone (docs/dut-contract.md §1, "Scheduling").
+TEST(NavbenchStartup, ALockstepDutRunsAtRoundRobinPriorityARealtimeOneAsItIs) {
+  if (::geteuid() != 0) GTEST_SKIP() << "setting a real-time policy needs root";
+  for (const std::string mode : {"lockstep", "realtime"}) {
+    const auto dir = fresh_dir("policy-" + mode);
+    const std::string scenario = policy_reporting_scenario(mode);
+    ASSERT_NE(scenario.find("chrt -p"), std::string::npos);
+    std::ofstream(dir / "policy.yaml") << scenario;
+    const auto r = run_navbench({"run", (dir / "policy.yaml").string(), "--out", "run"}, dir);
+    EXPECT_EQ(r.exit_code, 0) << mode << r.out << r.err;
+    const std::string log = slurp(dir / "run" / "dut.log");
+    if (mode == "lockstep") {
+      EXPECT_NE(log.find("scheduling policy: SCHED_RR|SCHED_RESET_ON_FORK"), std::string::npos)
+          << log;
+      EXPECT_NE(log.find("scheduling priority: 10"), std::string::npos) << log;
+    } else {
+      EXPECT_NE(log.find("scheduling policy: SCHED_OTHER"), std::string::npos) << log;
+    }
+  }
 }
 
 // dut.startup is 60 s; navd is ready within a fraction of a second.

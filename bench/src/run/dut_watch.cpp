@@ -10,6 +10,7 @@
 #include <boost/asio/steady_timer.hpp>
 
 #include "devices/device_kind.hpp"
+#include "nav/bench/realtime.hpp"
 #include "nav/bench/runner.hpp"
 #include "lines/port_users.hpp"
 
@@ -148,6 +149,9 @@ void DutWatch::start(const std::vector<BenchLine>& lines, const std::filesystem:
                                       : "peer '" + veh.name + "': " + dut.error().detail);
     }
     veh.proc = std::make_unique<DutProcess>(std::move(*dut));
+    if (sc_.mode == TimeMode::kLockstep) {
+      (void)try_round_robin_priority(veh.proc->pid(), kLockstepDutPriority);
+    }
     veh.log_limit = std::make_unique<DutLogLimit>((dir / log_name).string(), log_limit);
     if (v > 0) {
       veh.output_capture =
@@ -357,6 +361,9 @@ bool DutWatch::power_on(std::uint32_t v, const DutRestart& r) {
     return false;
   }
   veh.proc = std::make_unique<DutProcess>(std::move(*dut));
+  if (sc_.mode == TimeMode::kLockstep) {
+    (void)try_round_robin_priority(veh.proc->pid(), kLockstepDutPriority);
+  }
   rec.started = monotonic_now();
   veh.watch_from = rec.started + veh.dut->startup;
   off_[v] = false;

@@ -27,6 +27,12 @@ void try_realtime_priority(int priority) {
   (void)::pthread_setschedparam(::pthread_self(), SCHED_FIFO, &p);
 }
 
+bool try_round_robin_priority(pid_t pid, int priority) {
+  sched_param p{};
+  p.sched_priority = priority;
+  return ::sched_setscheduler(pid, SCHED_RR | SCHED_RESET_ON_FORK, &p) == 0;
+}
+
 CpuWakeLatencyHold::CpuWakeLatencyHold() {
   fd_ = ::open("/dev/cpu_dma_latency", O_WRONLY | O_CLOEXEC);
   if (fd_ < 0) return;
