@@ -13,12 +13,20 @@ function(nav_add_test)
   target_compile_definitions(${T_NAME} PRIVATE
     NAV_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
     NAV_BINARY_DIR="${CMAKE_RUNTIME_OUTPUT_DIRECTORY}")
-  set(props LABELS "${T_LABELS}" TIMEOUT 300)
+  set(props TIMEOUT 300)
   if("integration" IN_LIST T_LABELS)
     # Integration tests measure timing on ptys: never alongside another test.
     list(APPEND props RUN_SERIAL TRUE)
   endif()
   gtest_discover_tests(${T_NAME} PROPERTIES ${props} DISCOVERY_TIMEOUT 60)
+  # The labels are set once the tests are discovered: gtest_discover_tests() passes its
+  # PROPERTIES on as a flat list, where a second label would be read as a property name.
+  set(labels_file "${CMAKE_CURRENT_BINARY_DIR}/${T_NAME}_labels.cmake")
+  file(WRITE "${labels_file}"
+    "if(${T_NAME}_TESTS)\n"
+    "  set_tests_properties(\${${T_NAME}_TESTS} PROPERTIES LABELS \"${T_LABELS}\")\n"
+    "endif()\n")
+  set_property(DIRECTORY APPEND PROPERTY TEST_INCLUDE_FILES "${labels_file}")
   if(NOT "unit" IN_LIST T_LABELS AND NOT "integration" IN_LIST T_LABELS)
     nav_not_in_sanitized_build(${T_NAME})
   endif()
