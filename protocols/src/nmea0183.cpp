@@ -227,9 +227,14 @@ std::uint8_t checksum(std::string_view body) {
 }
 
 std::string frame(const Sentence& s) {
+  // One test per character (find_first_of searches its set with a memchr per character:
+  // navd's largest cost in user space over a P0 campaign).
+  const auto delimiter = [](char c) {
+    return c == ',' || c == '*' || c == '$' || c == '\r' || c == '\n';
+  };
   std::string body = s.talker + s.type;
   for (const std::string& f : s.fields) {
-    NAV_ENSURE(f.find_first_of(",*$\r\n") == std::string::npos,
+    NAV_ENSURE(std::none_of(f.begin(), f.end(), delimiter),
                "NMEA field contains a delimiter: '" + f + "'");
     body += ',';
     body += f;

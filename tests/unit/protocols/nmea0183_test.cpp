@@ -235,6 +235,10 @@ TEST(NmeaFrame, DelimiterInsideAFieldIsAContractViolation) {
       [](const char*, int, const char*, const std::string&) { throw Violation{}; });
   EXPECT_THROW(frame({"GP", "TXT", {"a,b"}}), Violation);
   EXPECT_THROW(frame({"GP", "TXT", {"a*b"}}), Violation);
+  EXPECT_THROW(frame({"GP", "TXT", {"ok", "$b"}}), Violation);
+  EXPECT_THROW(frame({"GP", "TXT", {"a\r"}}), Violation);
+  EXPECT_THROW(frame({"GP", "TXT", {"\n"}}), Violation);
+  EXPECT_EQ(frame({"GP", "TXT", {"a b-c.d_e"}}).substr(0, 16), "$GPTXT,a b-c.d_e");
   set_ensure_handler(previous);
 }
 
