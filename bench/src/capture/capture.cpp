@@ -83,11 +83,14 @@ void append_capture_line(std::string& out, Duration since_t0, std::string_view p
   out.append(head, static_cast<std::size_t>(n));
   out += port;
   out += ' ';
+  const std::size_t at = out.size();
+  out.resize(at + 2 * bytes.size() + 1);  // then filled in place: no check per character
+  char* p = out.data() + at;
   for (const auto b : bytes) {
-    out += kHex[b >> 4];
-    out += kHex[b & 0x0F];
+    *p++ = kHex[b >> 4];
+    *p++ = kHex[b & 0x0F];
   }
-  out += '\n';
+  *p = '\n';
 }
 
 void write_capture_line(std::FILE* f, Duration since_t0, const std::string& port,
