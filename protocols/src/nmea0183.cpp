@@ -311,6 +311,8 @@ ParseResult<Sentence> parse_with_limit(ByteSpan buffer, std::size_t max_sentence
   s.talker = std::string(address.substr(0, talker_len));
   s.type = std::string(address.substr(talker_len));
   if (comma < body.size()) {
+    s.fields.reserve(static_cast<std::size_t>(
+        std::count(body.begin() + static_cast<std::ptrdiff_t>(comma), body.end(), ',')));
     std::size_t pos = comma + 1;
     while (true) {
       const std::size_t next = std::min(body.find(',', pos), body.size());
