@@ -3,6 +3,10 @@
 // campaign/, navd configured from beside them through {scenario_dir}) × 3 seeds, 2 at a time;
 // the table checked against the runs' own summary.json; determinism of a seed; usage and
 // scenario errors refused before anything is created.
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -201,6 +205,34 @@ TEST(NavbenchCampaign, UsageAndScenarioErrorsRunNothing) {
       run_navbench({"campaign", source_path(kStraight), "--seeds", "1", "-o", "taken"}, dir);
   EXPECT_EQ(taken.exit_code, 2) << taken.err;
   EXPECT_TRUE(fs::is_empty(dir / "taken"));
+}
+
+// Two campaigns in one folder at once: the second is refused while the first holds it, and
+// touches nothing (here the test holds the folder's lock as a running campaign does).
+TEST(NavbenchCampaign, ACampaignFolderInUseIsRefused) {
+  const auto dir = fresh_dir("campaign-busy");
+  const std::vector<std::string> args = {"campaign", source_path(kStraight), "--seeds", "1",
+                                         "-o", "out", "-q"};
+  const auto first = run_navbench(args, dir);
+  ASSERT_EQ(first.exit_code, 0) << first.err;
+  const std::string table = slurp(dir / "out" / "comparison.md");
+  fs::remove_all(dir / "out" / "runs" / "it-campaign-straight-s1");  // something left to run
+
+  const int fd = ::open((dir / "out").c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  ASSERT_GE(fd, 0);
+  ASSERT_EQ(::flock(fd, LOCK_EX | LOCK_NB), 0);
+  const auto busy = run_navbench(args, dir);
+  EXPECT_EQ(busy.exit_code, 2) << busy.err;
+  EXPECT_NE(busy.err.find("is in use by another navbench campaign"), std::string::npos)
+      << busy.err;
+  EXPECT_EQ(slurp(dir / "out" / "comparison.md"), table);
+  EXPECT_TRUE(fs::is_empty(dir / "out" / "runs"));
+  ::close(fd);
+
+  // Released: the same command resumes it.
+  const auto again = run_navbench(args, dir);
+  EXPECT_EQ(again.exit_code, 0) << again.err;
+  EXPECT_TRUE(fs::exists(dir / "out" / "runs" / "it-campaign-straight-s1" / "result.json"));
 }
 
 }  // namespace

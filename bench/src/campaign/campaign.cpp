@@ -4,8 +4,11 @@
 // (campaign.hpp).
 #include "nav/bench/campaign.hpp"
 
+#include <fcntl.h>
 #include <signal.h>
+#include <sys/file.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <cerrno>
 #include <chrono>
@@ -79,6 +82,25 @@ IndexEnd bench_error(const CampaignPlan& plan, std::size_t i, const RunInputs& i
   return e;
 }
 
+/// The campaign folder held by this campaign (flock, released when the descriptor closes):
+/// two campaigns in one folder would run each other's indices and overwrite each other's
+/// table.
+class FolderLock {
+ public:
+  explicit FolderLock(const fs::path& dir)
+      : fd_(::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC)) {}
+  ~FolderLock() {
+    if (fd_ >= 0) ::close(fd_);
+  }
+  FolderLock(const FolderLock&) = delete;
+  FolderLock& operator=(const FolderLock&) = delete;
+  /// False when another campaign holds the folder.
+  bool take() { return fd_ >= 0 && ::flock(fd_, LOCK_EX | LOCK_NB) == 0; }
+
+ private:
+  int fd_;
+};
+
 }  // namespace
 
 int run_campaign(const CampaignOptions& o) {
@@ -103,6 +125,14 @@ int run_campaign(const CampaignOptions& o) {
   const auto resumed = open_campaign_folder(out, *plan);
   if (!resumed) {
     std::fprintf(stderr, "navbench: %s\n", resumed.error().detail.c_str());
+    return kExitUsage;
+  }
+  FolderLock lock(out);
+  if (!lock.take()) {
+    std::fprintf(stderr,
+                 "navbench: campaign folder %s is in use by another navbench campaign (it holds "
+                 "the folder's lock); wait for it to end, or choose another --out\n",
+                 out.c_str());
     return kExitUsage;
   }
   const fs::path runs_dir = out / "runs";

@@ -109,11 +109,12 @@ constexpr const char* kCampaignFooter =
     "measured; statistics are over the runs that reached the end (exit 0 or 1), std is the\n"
     "sample standard deviation (n-1), \"—\" for fewer than two runs or no endpoint_error check.\n\n"
     "Exit codes: 0 every run passed; 1 a check failed in some run (the table is still\n"
-    "written); 2 usage or scenario error (one line naming file:line; nothing is run), or DIR\n"
-    "holds another plan; 3 a bench error in some run; 4 a DUT crashed or hung in some run\n"
-    "(worst wins: 4 > 3 > 1). SIGINT/SIGTERM: no further runs start, running ones are\n"
-    "stopped with SIGTERM (they write their reports, and are run again on resume), the table\n"
-    "is written from the finished runs and marked incomplete, exit 130.";
+    "written); 2 usage or scenario error (one line naming file:line; nothing is run), DIR\n"
+    "holds another plan or another campaign runs in it; 3 a bench error in some run; 4 a DUT\n"
+    "crashed or hung in some run (worst wins: 4 > 3 > 1). SIGINT/SIGTERM: no further runs\n"
+    "start, running ones are stopped with SIGTERM (they write their reports, and are run\n"
+    "again on resume), the table is written from the finished runs and marked incomplete,\n"
+    "exit 130.";
 
 }  // namespace
 
