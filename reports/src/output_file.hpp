@@ -55,8 +55,7 @@ class OutputFile {
     return *this;
   }
   OutputFile& operator<<(char c) {
-    buf_.push_back(c);
-    if (buf_.size() >= kChunk) write_out();
+    append(std::string_view(&c, 1));
     return *this;
   }
   OutputFile& operator<<(std::string_view s) {

@@ -9,7 +9,6 @@
 #include <fstream>
 #include <limits>
 #include <optional>
-#include <sstream>
 #include <string_view>
 
 namespace nav::reports {
@@ -24,7 +23,7 @@ void split(std::string_view line, char sep, std::vector<std::string_view>& out) 
   std::size_t start = 0;
   for (;;) {
     const auto at = line.find(sep, start);
-    out.push_back(line.substr(start, at == std::string_view::npos ? std::string_view::npos : at - start));
+    out.push_back(line.substr(start, at - start));  // at == npos: the rest of the line
     if (at == std::string_view::npos) return;
     start = at + 1;
   }
@@ -221,15 +220,13 @@ Result<RunFolder> read_run_folder(const std::string& dir) {
   if (!fs::is_directory(dir, ec)) return fail(ErrorCode::kNotFound, dir + ": not a folder");
   const fs::path root(dir);
   const std::string summary_path = (root / "summary.json").string();
-  std::ifstream in(summary_path, std::ios::binary);
-  if (!in) {
+  const auto text = slurp(summary_path);
+  if (!text) {
     return fail(ErrorCode::kNotFound,
                 dir + ": not a run folder (no summary.json) nor a campaign folder (no "
                       "campaign.json)");
   }
-  std::ostringstream text;
-  text << in.rdbuf();
-  f.summary = json::parse(text.str(), nullptr, false);
+  f.summary = json::parse(*text, nullptr, false);
   if (f.summary.is_discarded()) {
     return fail(ErrorCode::kParse, summary_path + ": not valid JSON (damaged or cut short)");
   }

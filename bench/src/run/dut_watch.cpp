@@ -148,10 +148,7 @@ void DutWatch::start(const std::vector<BenchLine>& lines, const std::filesystem:
       throw std::runtime_error(v == 0 ? dut.error().detail
                                       : "peer '" + veh.name + "': " + dut.error().detail);
     }
-    veh.proc = std::make_unique<DutProcess>(std::move(*dut));
-    if (sc_.mode == TimeMode::kLockstep) {
-      (void)try_round_robin_priority(veh.proc->pid(), kLockstepDutPriority);
-    }
+    adopt(veh, std::move(*dut));
     veh.log_limit = std::make_unique<DutLogLimit>((dir / log_name).string(), log_limit);
     if (v > 0) {
       veh.output_capture =
@@ -334,6 +331,13 @@ void DutWatch::power_off(std::uint32_t v, const DutRestart& r) {
   veh.restarts.push_back(std::move(rec));
 }
 
+void DutWatch::adopt(Vehicle& veh, DutProcess dut) {
+  veh.proc = std::make_unique<DutProcess>(std::move(dut));
+  if (sc_.mode == TimeMode::kLockstep) {
+    (void)try_round_robin_priority(veh.proc->pid(), kLockstepDutPriority);
+  }
+}
+
 bool DutWatch::power_on(std::uint32_t v, const DutRestart& r) {
   Vehicle& veh = vehicles_[v];
   // What its lines hold unread was sent to a DUT that was off: a real line lost it.
@@ -360,10 +364,7 @@ bool DutWatch::power_on(std::uint32_t v, const DutRestart& r) {
                  dut.error().detail;
     return false;
   }
-  veh.proc = std::make_unique<DutProcess>(std::move(*dut));
-  if (sc_.mode == TimeMode::kLockstep) {
-    (void)try_round_robin_priority(veh.proc->pid(), kLockstepDutPriority);
-  }
+  adopt(veh, std::move(*dut));
   rec.started = monotonic_now();
   veh.watch_from = rec.started + veh.dut->startup;
   off_[v] = false;

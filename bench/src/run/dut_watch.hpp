@@ -173,6 +173,8 @@ class DutWatch {
   void power_off(std::uint32_t v, const DutRestart& r);
   /// False (and the vehicle failed) when the command could not be started again.
   bool power_on(std::uint32_t v, const DutRestart& r);
+  /// The vehicle's DUT, just started (or started again); in lockstep at kLockstepDutPriority.
+  void adopt(Vehicle& veh, DutProcess dut);
   std::vector<std::string> argv_of(std::uint32_t v, const std::vector<BenchLine>& lines,
                                    const std::filesystem::path& dir) const;
   /// `navbench witness` in vehicle v's DUT's place (DutSpec::witness).
