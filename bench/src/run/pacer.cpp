@@ -22,6 +22,13 @@ Timestamp RealtimePacer::deadline(Duration t) const {
                                                    speed_)};
 }
 
+Duration RealtimePacer::late(Duration t, Timestamp at) const {
+  const Timestamp due = deadline(t);
+  if (at <= due) return Duration{0};
+  if (speed_ == 1.0) return at - due;
+  return Duration{static_cast<Duration::rep>(static_cast<double>((at - due).count()) * speed_)};
+}
+
 void RealtimePacer::advance(Duration t, IdleWork& idle) {
   idle.send_can_due(t, [&](Duration due) { wait(due, idle); });
   wait(t, idle);

@@ -61,6 +61,9 @@ class Pacer {
   virtual void written(Duration end) = 0;
   /// The scenario time now: what the DUT writes is stamped with it.
   virtual Duration now() const = 0;
+  /// How late a write at `at` on the clock was for scenario time t (never below 0; always 0
+  /// in lockstep, which has no deadlines).
+  virtual Duration late(Duration t, Timestamp at) const = 0;
   /// After the last write: the CAN frames due after it.
   virtual void finish(IdleWork& idle) = 0;
 };
@@ -77,6 +80,7 @@ class RealtimePacer final : public Pacer {
   void advance(Duration t, IdleWork& idle) override;
   void written(Duration) override {}
   Duration now() const override { return clock_.now() - t0_; }
+  Duration late(Duration t, Timestamp at) const override;
   void finish(IdleWork& idle) override;
   /// The clock's deadline of scenario time t.
   Timestamp deadline(Duration t) const;
@@ -99,6 +103,7 @@ class LockstepPacer final : public Pacer {
   void advance(Duration t, IdleWork& idle) override;
   void written(Duration end) override { now_ = end; }
   Duration now() const override { return now_; }
+  Duration late(Duration, Timestamp) const override { return Duration{0}; }
   void finish(IdleWork& idle) override;
 
  private:

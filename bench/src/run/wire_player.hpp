@@ -3,7 +3,10 @@
 // write of a schedule in order, each after its pacer advanced to it (pacer.hpp), what happens
 // around each write left to the owner of the lines (a PlayHost). Private to nav_bench.
 //
-//   for each group of writes due at one instant (realtime; in lockstep each write alone):
+//   for each group of writes due at one instant (realtime; in lockstep each write alone; in
+//   realtime a message's later chunks are due its first chunk's lateness after their
+//   scheduled times, as a UART clocks bytes out from the first, and a line's next message
+//   first sends what its predecessor still holds):
 //     host.go_on(t)          stop on a signal or a DUT that died; progress
 //     pacer.advance(t, host) CAN frames due (a CAN trigger's barrier), idle work (reactive
 //                            devices), the deadline

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -29,6 +30,7 @@ class FakeClock final : public Clock {
   void sleep_until(Timestamp t, const std::atomic<bool>&) override {
     sleeps.push_back(t);
     if (t > now_) now_ = t;
+    if (const auto l = late.find(t); l != late.end()) now_ += l->second;
   }
   /// Cut short at the first of news_at after now and before t (the event loop's news).
   void sleep_until_news(Timestamp t, const std::atomic<bool>& stop, Wakeup&) override {
@@ -45,6 +47,7 @@ class FakeClock final : public Clock {
   Duration tick{0};
   std::vector<Timestamp> sleeps;
   std::vector<Timestamp> news_at;
+  std::map<Timestamp, Duration> late;  ///< a sleep until the key wakes this much after it
 
  private:
   mutable Timestamp now_{std::chrono::seconds(100)};
@@ -367,6 +370,71 @@ TEST_F(Player, PlayRealtimeWritesDueAtOneInstantGoBackToBackTheirEndsAfterTheLas
   };
   ASSERT_NE(starting("done 0"), l.log.end());
   EXPECT_LT(starting("done 0"), starting("write 1"));
+}
+
+/// The writes of a play with the clock's time of each [us after t0 = 100 s].
+struct WriteTimes : Recorder {
+  explicit WriteTimes(const FakeClock& c) : Recorder(c), clock(c) {}
+  std::size_t write(std::uint32_t k, std::uint32_t offset, std::uint32_t length,
+                    bool lockstep) override {
+    got.push_back(std::to_string(k) + "+" + std::to_string(offset) + " at " +
+                  std::to_string((clock.now() - kT0).count() / 1000) + "us");
+    return Recorder::write(k, offset, length, lockstep);
+  }
+  const FakeClock& clock;
+  std::vector<std::string> got;
+};
+
+TEST_F(Player, PlayRealtimeALateFirstChunkHoldsTheMessagesLaterChunksAsLongAgain) {
+  // Scenario time 0 at 101 s. Message 0 (line 0) starts 300 us late: its chunks due at 1 and
+  // 2 ms go at 1.3 and 2.3 ms, as a UART clocks them out from its first byte. Message 1 on
+  // line 1 keeps its own times.
+  realtime.set_origin(kT0 + 1ms);
+  clock.late[kT0 + 1ms] = 300us;
+  WriteTimes h{clock};
+  h.sizes = r.sizes;
+  ASSERT_TRUE(play_wires(s.messages, s.chunks, realtime, h, clock, stop));
+  EXPECT_EQ(h.got, (std::vector<std::string>{"0+0 at 1300us", "0+1 at 2300us", "1+0 at 2500us",
+                                             "0+2 at 3300us", "1+1 at 3500us"}));
+  EXPECT_EQ(std::count(h.log.begin(), h.log.end(), "done 0 first 1ms"), 1);
+}
+
+TEST_F(Player, PlayRealtimeTheNextMessageOnALineSendsWhatItsPredecessorStillHoldsFirst) {
+  // Message 0: 3 chunks due at 0, 1, 2 ms, begun 1.5 ms late; message 1 follows it on the
+  // same line at 3 ms, before message 0's last chunk's held time (3.5 ms): that chunk goes
+  // first, at 3 ms, and message 1 is not held back (a lateness does not carry on along a line).
+  WireSchedule b;
+  b.messages = {{0, 0, 0ms, 3ms}, {0, 1, 3ms, 4ms}};
+  b.chunks = {{0ms, 0, 0, 1}, {1ms, 0, 1, 1}, {2ms, 0, 2, 1}, {3ms, 1, 0, 1}};
+  realtime.set_origin(kT0 + 1ms);
+  clock.late[kT0 + 1ms] = 1500us;
+  WriteTimes h{clock};
+  h.sizes = {3, 1};
+  ASSERT_TRUE(play_wires(b.messages, b.chunks, realtime, h, clock, stop));
+  EXPECT_EQ(h.got, (std::vector<std::string>{"0+0 at 2500us", "0+1 at 3500us", "0+2 at 4000us",
+                                             "1+0 at 4000us"}));
+  std::vector<std::string> ends;
+  for (const auto& l : h.log) {
+    if (l.rfind("done", 0) == 0) ends.push_back(l);
+  }
+  EXPECT_EQ(ends, (std::vector<std::string>{"done 0 first 2ms", "done 1 first 4ms"}));
+}
+
+TEST_F(Player, PlayRealtimeAtTwiceTheSpeedHoldsLaterChunksByTheLatenessInScenarioTime) {
+  // At speed 2, 100 us late on the clock is 200 us of scenario time: message 0's chunk due
+  // at 1 ms (scenario) is held to 1.2 ms, which is 0.6 ms after the origin on the clock.
+  realtime.set_origin(kT0 + 1ms, 0ms, 2.0);
+  EXPECT_EQ(realtime.late(0ms, kT0 + 1100us), 200us);
+  EXPECT_EQ(realtime.late(1ms, kT0 + 1100us), 0us);
+  clock.late[kT0 + 1ms] = 100us;
+  WriteTimes h{clock};
+  h.sizes = r.sizes;
+  ASSERT_TRUE(play_wires(s.messages, s.chunks, realtime, h, clock, stop));
+  EXPECT_EQ(h.got.at(1), "0+1 at 1600us");
+}
+
+TEST_F(Player, LockstepHasNoLateness) {
+  EXPECT_EQ(lockstep.late(0ms, kT0 + 1s), 0us);
 }
 
 }  // namespace
