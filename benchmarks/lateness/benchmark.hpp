@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 // The three parts of the lateness benchmark (lateness_benchmark.cpp has the command line):
 //
-//   pairs:  the floor (floor.hpp) and `navbench run SCENARIO` alternately, ratios pair by pair
+//   pairs:  the floors (floor.hpp, write_floor.hpp) and `navbench run SCENARIO` alternately,
+//           ratios pair by pair
 //   serial: one serial trace played by `navbench replay` and by a plain sleep-paced writer,
 //           each measured by `navbench witness` on the far side of its ptys
 //   can:    one CAN trace played by canplayer and by `navbench replay` on vcan0, each

@@ -34,9 +34,10 @@ int main(int argc, char** argv) {
   double floor_seconds = 0.0;
   bool witness = false;
   auto* pairs = app.add_subcommand(
-      "pairs", "The wake-up floor and `navbench run SCENARIO` alternately (after a warm-up run "
-               "that sets the floor's rate); the bench's lateness p50/p99/max as ratios to the "
-               "floor's, pair by pair, and their medians");
+      "pairs", "The wake-up floor, the write floor (a bare writer of the warm-up run's bursts) "
+               "and `navbench run SCENARIO` alternately (after a warm-up run that sets the "
+               "floors' schedules); the bench's lateness p50/p99/max as ratios to each floor's, "
+               "pair by pair, and their medians");
   pairs->add_option("scenario", scenario, "Scenario to run (realtime)")->required()
       ->check(CLI::ExistingFile);
   pairs->add_option("--floor-seconds", floor_seconds,

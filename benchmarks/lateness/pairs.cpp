@@ -10,6 +10,7 @@
 #include "child.hpp"
 #include "floor.hpp"
 #include "lateness_stats.hpp"
+#include "write_floor.hpp"
 
 namespace nav::benchmarks {
 namespace {
@@ -73,7 +74,16 @@ int run_pairs(const Common& c, const std::string& scenario, double floor_seconds
   const auto n = static_cast<std::size_t>(seconds / (static_cast<double>(period.count()) * 1e-9));
   std::printf("floor: %zu wake-ups every %.3f ms (the scenario's message rate), %.0f s\n", n,
               static_cast<double>(period.count()) * 1e-6, seconds);
-  std::vector<Stats> floors, runs, arrivals;
+  const auto lateness_csv =
+      reports::read_csv((c.out / "warm-up" / "lateness.csv").string(), {"device"});
+  if (!lateness_csv) {
+    std::fprintf(stderr, "lateness_benchmark: %s\n", lateness_csv.error().detail.c_str());
+    return 2;
+  }
+  const WriteSchedule bursts = write_schedule(*lateness_csv, seconds);
+  std::printf("write floor: the warm-up run's %zu message starts on %zu lines at %zu instants, "
+              "%.0f s\n", bursts.messages, bursts.lines.size(), bursts.instants.size(), seconds);
+  std::vector<Stats> floors, write_floors, runs, arrivals;
   std::ofstream csv(c.out / "pairs.csv");
   csv << "pair,what,count,p50_us,p99_us,max_us,cpu_share\n";
   const auto row = [&](int i, const char* what, const Stats& s, double cpu) {
@@ -82,22 +92,28 @@ int run_pairs(const Common& c, const std::string& scenario, double floor_seconds
   };
   for (int i = 1; i <= c.pairs; ++i) {
     floors.push_back(reports::summarize(wake_up_floor(period, n)));
+    write_floors.push_back(reports::summarize(write_floor(bursts, witness)));
     const RunFigures r = run_scenario(c, scenario, "pair-" + std::to_string(i), witness);
     runs.push_back(r.lateness);
     arrivals.push_back(r.arrival);
     std::printf("pair %d (run %s, bench CPU %.1f %% of one core) [us]:\n", i, r.verdict.c_str(),
                 r.cpu_share * 100.0);
     print_stats("floor", floors.back());
+    print_stats("write floor", write_floors.back());
     print_stats("bench write lateness", r.lateness);
     if (witness) print_stats("witness arrival", r.arrival);
     std::fflush(stdout);
     row(i, "floor", floors.back(), 0.0);
+    row(i, "write_floor", write_floors.back(), 0.0);
     row(i, "bench", r.lateness, r.cpu_share);
     if (witness) row(i, "witness", r.arrival, 0.0);
   }
   const PairRatio m = median_ratio(pair_ratios(floors, runs));
   std::printf("median over %d pairs of bench / floor:  p50 %.2f  p99 %.2f  max %.2f\n", c.pairs,
               m.p50, m.p99, m.max);
+  const PairRatio w = median_ratio(pair_ratios(write_floors, runs));
+  std::printf("median over %d pairs of bench / write floor:  p50 %.2f  p99 %.2f  max %.2f\n",
+              c.pairs, w.p50, w.p99, w.max);
   if (witness) {
     const PairRatio a = median_ratio(pair_ratios(floors, arrivals));
     std::printf("median over %d pairs of witness arrival / floor:  p50 %.2f  p99 %.2f  max %.2f\n",
