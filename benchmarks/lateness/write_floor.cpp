@@ -7,9 +7,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include <algorithm>
-#include <cerrno>
 #include <atomic>
+#include <cerrno>
 #include <stdexcept>
 #include <thread>
 
@@ -17,6 +16,7 @@
 #include "nav/bench/witness.hpp"
 #include "nav/common/time.hpp"
 #include "nav/transport/pty.hpp"
+#include "run/clock.hpp"
 #include "run/pacer.hpp"
 
 namespace nav::benchmarks {
@@ -69,14 +69,17 @@ std::vector<double> write_floor(const WriteSchedule& s, bool witness_reader) {
   std::thread writer([&] {
     bench::try_realtime_priority(20);  // the player's (event_loop.cpp)
     const bench::CpuWakeLatencyHold awake;
+    // The player's own pacer, with nothing to do between writes.
     const std::atomic<bool> never{false};
+    bench::detail::SystemClock clock;
+    bench::detail::IdleWork nothing;
+    bench::detail::RealtimePacer pacer(clock, never, bench::detail::kMaxSleep);
+    pacer.set_origin(monotonic_now() + std::chrono::milliseconds(200));  // the reader is up
     const char chunk[11] = {'$', 'W', 'R', 'I', 'T', 'E', ',', '0', '0', '\r', '\n'};
-    const Timestamp t0 = monotonic_now() + std::chrono::milliseconds(200);  // the reader is up
     for (const WriteInstant& w : s.instants) {
-      const Timestamp deadline = t0 + from_seconds(w.t_s);
-      for (Timestamp now = monotonic_now(); now < deadline; now = monotonic_now()) {
-        bench::sleep_until(std::min(deadline, now + bench::detail::kMaxSleep), never);
-      }
+      const Duration t = from_seconds(w.t_s);
+      pacer.wait(t, nothing);
+      const Timestamp deadline = pacer.deadline(t);
       for (const int line : w.lines) {
         late.push_back(to_seconds(monotonic_now() - deadline));
         (void)::write(ptys[static_cast<std::size_t>(line)].master(), chunk, sizeof chunk);

@@ -4,8 +4,9 @@
 // it. At each instant of the schedule it writes a message's first chunk (11 bytes: 1 ms at
 // 115200 baud) to one pty per line, back to back, stamping each write as the bench does
 // (lateness = the time before the write - the deadline); nothing else: no captures, no
-// counts, no later chunks. It sleeps as the bench's player does (SCHED_FIFO 20, 1 ns timer
-// slack, the CPUs held out of deep idle, absolute sleeps of at most kMaxSleep). Another
+// counts, no later chunks. It sleeps as the bench's player does, with the player's pacer
+// (SCHED_FIFO 20, 1 ns timer slack, the CPUs held out of deep idle, absolute sleeps of at most
+// kMaxSleep). Another
 // process reads every line, as the witness does (SCHED_FIFO 30, memory locked) or as a DUT
 // at the normal policy does.
 #pragma once

@@ -151,6 +151,7 @@ bool play_wires(const std::vector<ScheduledMessage>& messages, const std::vector
   pacer.finish(host);
   return true;
 }
+
 std::vector<Chunk> writes_for(const WireSchedule& s, const Pacer& pacer,
                               const std::vector<std::size_t>& message_sizes) {
   if (!pacer.lockstep()) return s.chunks;
