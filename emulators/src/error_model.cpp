@@ -5,6 +5,13 @@
 //   w_i[k]  = w_i[k-1] + sigma_walk * sqrt(dt_k) * n1     bias random walk, w[-1] = 0
 //   y_i[k]  = x_i[k] + b + w_i[k] + sigma_white * n2      n1, n2 ~ N(0, 1) independent
 // so Var(w(t)) = sigma_walk^2 * t (unit^2), cf. gz-sensors GaussianNoiseModel.
+// Bias instability, a first-order Gauss-Markov process of standard deviation sigma_gm and
+// correlation time tau (Groves sec. 4.4.2; IEEE Std 952-1997 Annex C models the flat floor of
+// the Allan deviation this way), only when sigma_gm > 0, drawn after the six normals above:
+//   g_i[0]  = sigma_gm * n3                                  stationary from the start
+//   g_i[k]  = e^(-dt_k/tau) g_i[k-1] + sigma_gm sqrt(1 - e^(-2 dt_k/tau)) * n3   (exact
+//             discretisation: Var(g) = sigma_gm^2 at every k, correlation e^(-|lag|/tau))
+//   y_i[k] += g_i[k]
 //
 // Triad sensor model (TriadSensorErrorModel), applied in this order to a truth vector x given
 // in the sensor's ideal frame (error terms as in Groves, "Principles of GNSS, Inertial, and
@@ -81,7 +88,15 @@ Vec3 TriadErrorModel::apply(const Vec3& truth, double dt_s, std::mt19937_64& rng
   for (int i = 0; i < 3; ++i) walk_[i] += walk_step * standard_normal(rng);
   Vec3 white;
   for (int i = 0; i < 3; ++i) white[i] = e_.white_std * standard_normal(rng);
-  return truth + Vec3::Constant(e_.bias) + walk_ + white;
+  if (e_.instability_std > 0.0) {
+    NAV_ENSURE(std::isfinite(e_.instability_std) && e_.instability_tau_s > 0.0,
+               "bias instability needs a finite std and a correlation time > 0");
+    const double phi = started_ ? std::exp(-dt_s / e_.instability_tau_s) : 0.0;
+    const double drive = e_.instability_std * std::sqrt(1.0 - phi * phi);
+    for (int i = 0; i < 3; ++i) markov_[i] = phi * markov_[i] + drive * standard_normal(rng);
+  }
+  started_ = true;
+  return truth + Vec3::Constant(e_.bias) + walk_ + white + markov_;
 }
 
 Mat3 small_angle_misalignment(const Vec3& theta_rad) {

@@ -10,8 +10,9 @@ namespace nav::bench::detail {
 
 /// The keys of a triad error map (docs/scenario.md), plus `extra`.
 std::vector<std::string> triad_keys(std::vector<std::string> extra) {
-  std::vector<std::string> keys{"white",        "bias",         "bias_walk", "scale",
-                                "misalignment", "quantization", "range"};
+  std::vector<std::string> keys{"white",        "bias",         "bias_walk", "instability",
+                                "correlation_time", "scale",    "misalignment",
+                                "quantization", "range"};
   keys.insert(keys.end(), extra.begin(), extra.end());
   return keys;
 }
@@ -62,6 +63,13 @@ void read_triad_errors(const MapReader& m, Dimension dim, Dimension walk_dim,
   if (auto v = m.optional("bias")) e.random.bias = v->quantity(dim);
   if (auto v = m.optional("bias_walk")) {
     e.random.bias_walk_std = v->quantity(walk_dim, Bound::kNonNegative);
+  }
+  if (auto v = m.optional("instability")) {
+    e.random.instability_std = v->quantity(dim, Bound::kNonNegative);
+  }
+  if (auto v = m.optional("correlation_time")) {
+    if (!m.optional("instability")) v->fail("a correlation_time needs an instability");
+    e.random.instability_tau_s = v->quantity(Dimension::kTime, Bound::kPositive);
   }
   if (auto v = m.optional("scale")) e.scale_factor = read_triad_scale(*v);
   if (auto v = m.optional("misalignment")) e.misalignment_rad = read_misalignment(*v);

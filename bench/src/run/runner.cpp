@@ -264,7 +264,23 @@ Result<VehicleTruths> build_truths(const Scenario& sc) {
       }
       return fail(ErrorCode::kInvalidArgument, where + ": " + detail);
     }
-    truths.push_back(std::make_shared<const emulators::TruthTrajectory>(std::move(*truth)));
+    auto path = std::make_shared<const emulators::TruthTrajectory>(std::move(*truth));
+    const auto& hand = v == 0 ? sc.hand_guided : sc.peers[v - 1].hand_guided;
+    if (!hand) {
+      truths.push_back(std::move(path));
+      continue;
+    }
+    // The hand-guided truth kind: the path is where the hands mean the rig to go.
+    const std::string& name = v == 0 ? sc.vehicle_name : sc.peers[v - 1].vehicle_name;
+    auto rig = emulators::HandGuidedTruth::build(
+        path, *hand, emulators::device_seed(sc.seed, "hand_guided." + name),
+        spec.gravity_mps2, sc.duration);
+    if (!rig) {
+      const std::string& at = v == 0 ? sc.hand_guided_location
+                                     : sc.peers[v - 1].hand_guided_location;
+      return fail(ErrorCode::kInvalidArgument, at + ": " + rig.error().detail);
+    }
+    truths.push_back(std::make_shared<const emulators::HandGuidedTruth>(std::move(*rig)));
   }
   return truths;
 }

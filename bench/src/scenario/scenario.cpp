@@ -252,6 +252,8 @@ void read_peers(const Field& f, Scenario& s) {
     p.vehicle_name = std::move(tmp.vehicle_name);
     p.seabed_depth_m = tmp.seabed_depth_m;
     p.trajectory = std::move(tmp.trajectory);
+    p.hand_guided = tmp.hand_guided;
+    p.hand_guided_location = std::move(tmp.hand_guided_location);
     p.devices = std::move(tmp.devices);
     p.dut = std::move(tmp.dut);
     p.segment_locations = std::move(tmp.segment_locations);

@@ -46,6 +46,45 @@ void read_motion(const Field& f, emulators::AttitudeMotion& motion) {
   }
 }
 
+/// One band of vehicle.hand_guided: {rms: <quantity of dim>, band: [low, high],
+/// components: n}; `ratio` reads the rms as a plain ratio or a percentage instead.
+emulators::BandSpec read_band(const Field& f, emulators::BandSpec band, Dimension dim,
+                              bool ratio = false) {
+  const MapReader m(f, {"rms", "band", "components"});
+  const Field rms = m.required("rms");
+  band.rms = ratio ? rms.ratio() : rms.quantity(dim, Bound::kNonNegative);
+  if (auto v = m.optional("band")) {
+    const auto edges = v->list("a list [low, high] of two frequencies such as [0.1 Hz, 1 Hz]", 2);
+    if (edges.size() != 2) {
+      v->fail("expected a list [low, high] of two frequencies such as [0.1 Hz, 1 Hz], got " +
+              std::to_string(edges.size()) + " items");
+    }
+    band.f_lo_hz = edges[0].quantity(Dimension::kFrequency, Bound::kPositive);
+    band.f_hi_hz = edges[1].quantity(Dimension::kFrequency, Bound::kPositive);
+    if (band.f_hi_hz < band.f_lo_hz) {
+      edges[1].fail("expected the upper edge of the band at or above the lower (" +
+                    quoted(edges[0].node().Scalar()) + "), got " +
+                    quoted(edges[1].node().Scalar()));
+    }
+  }
+  if (auto v = m.optional("components")) band.components = v->integer<std::size_t>(1, 1000);
+  return band;
+}
+
+/// vehicle.hand_guided (docs/scenario.md): every band optional, rms 0 unless given.
+emulators::HandGuidedSpec read_hand_guided(const Field& f) {
+  const MapReader m(f, {"speed", "sway", "heave", "roll", "pitch", "yaw", "shake"});
+  emulators::HandGuidedSpec h;
+  if (auto v = m.optional("speed")) h.speed = read_band(*v, h.speed, Dimension::kLength, true);
+  if (auto v = m.optional("sway")) h.sway = read_band(*v, h.sway, Dimension::kLength);
+  if (auto v = m.optional("heave")) h.heave = read_band(*v, h.heave, Dimension::kLength);
+  if (auto v = m.optional("roll")) h.roll = read_band(*v, h.roll, Dimension::kAngle);
+  if (auto v = m.optional("pitch")) h.pitch = read_band(*v, h.pitch, Dimension::kAngle);
+  if (auto v = m.optional("yaw")) h.yaw = read_band(*v, h.yaw, Dimension::kAngle);
+  if (auto v = m.optional("shake")) h.shake = read_band(*v, h.shake, Dimension::kAcceleration);
+  return h;
+}
+
 /// What the vehicle is doing between segments: speed and depth carry over.
 struct PathCursor {
   double speed_mps = 0.0;  ///< the vehicle starts at rest
@@ -166,8 +205,8 @@ CanBusSpec read_can(const Field& f, Duration run) {
 }  // namespace
 
 void read_vehicle(const Field& f, Scenario& s) {
-  const MapReader m(f, {"name", "start", "max_accel", "arc_transition", "motion", "seabed", "path",
-                       "can", "devices"});
+  const MapReader m(f, {"name", "start", "max_accel", "arc_transition", "motion", "hand_guided",
+                       "seabed", "path", "can", "devices"});
   auto& t = s.trajectory;
   if (auto v = m.optional("name")) s.vehicle_name = v->identifier();
   if (auto v = m.optional("start")) read_start(*v, t);
@@ -178,6 +217,10 @@ void read_vehicle(const Field& f, Scenario& s) {
     t.arc_transition_m = v->quantity(Dimension::kLength, Bound::kNonNegative);
   }
   if (auto v = m.optional("motion")) read_motion(*v, t.motion);
+  if (auto v = m.optional("hand_guided")) {
+    s.hand_guided = read_hand_guided(*v);
+    s.hand_guided_location = location(s.file, v->mark());
+  }
   // Local normal gravity at the datum, as the vehicle's accelerometers would feel it.
   t.gravity_mps2 = geodesy::normal_gravity(s.datum.lat_rad, s.datum.alt_m);
 

@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
+#include <random>
 #include <vector>
 
 #include "nav/emulators/device.hpp"
@@ -129,6 +131,57 @@ TEST(TriadErrorModel, BiasRandomWalkVarianceGrowsLinearly) {
     const double expected = kWalkStd * kWalkStd * t;
     EXPECT_NEAR(var / expected, 1.0, 5.0 * std::sqrt(2.0 / kWalks)) << "t = " << t << " s";
   }
+}
+
+TEST(TriadErrorModel, BiasInstabilityIsAStationaryGaussMarkovProcess) {
+  // sigma 2, tau 5 s, sampled at 10 Hz for 20000 s: variance sigma^2, autocorrelation at
+  // lag tau e^-1 (within a few percent: 4000 correlation times).
+  TriadErrors e;
+  e.instability_std = 2.0;
+  e.instability_tau_s = 5.0;
+  TriadErrorModel m(e);
+  std::mt19937_64 rng(9);
+  std::vector<double> x;
+  for (int k = 0; k < 200000; ++k) x.push_back(m.apply(Vec3::Zero(), k == 0 ? 0.0 : 0.1, rng).x());
+  double var = 0.0, lag = 0.0;
+  for (std::size_t k = 0; k < x.size(); ++k) var += x[k] * x[k];
+  for (std::size_t k = 0; k + 50 < x.size(); ++k) lag += x[k] * x[k + 50];
+  var /= static_cast<double>(x.size());
+  lag /= static_cast<double>(x.size() - 50);
+  EXPECT_NEAR(var, 4.0, 4.0 * 0.08);
+  EXPECT_NEAR(lag / var, std::exp(-1.0), 0.04);
+}
+
+TEST(TriadErrorModel, BiasInstabilityIsStationaryFromTheFirstSample) {
+  // Across seeds, the very first sample already has variance sigma^2 (no warm-up).
+  TriadErrors e;
+  e.instability_std = 1.0;
+  double var = 0.0;
+  for (std::uint64_t seed = 1; seed <= 4000; ++seed) {
+    TriadErrorModel m(e);
+    std::mt19937_64 rng(seed);
+    const double v = m.apply(Vec3::Zero(), 0.0, rng).y();
+    var += v * v / 4000.0;
+  }
+  EXPECT_NEAR(var, 1.0, 0.08);
+}
+
+TEST(TriadErrorModel, WithoutBiasInstabilityTheDrawsAreUnchanged) {
+  // Six normals per sample: the engine ends where six standard_normal calls leave it; with
+  // an instability, three more.
+  TriadErrors e;
+  e.white_std = 1.0;
+  TriadErrorModel plain(e);
+  std::mt19937_64 a(4), b(4);
+  plain.apply(Vec3::Zero(), 0.0, a);
+  for (int i = 0; i < 6; ++i) standard_normal(b);
+  EXPECT_EQ(a(), b());
+  e.instability_std = 1.0;
+  TriadErrorModel unstable(e);
+  std::mt19937_64 c(4), d(4);
+  unstable.apply(Vec3::Zero(), 0.0, c);
+  for (int i = 0; i < 9; ++i) standard_normal(d);
+  EXPECT_EQ(c(), d());
 }
 
 }  // namespace

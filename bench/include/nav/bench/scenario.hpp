@@ -18,6 +18,7 @@
 #include "nav/emulators/acoustic_modem.hpp"
 #include "nav/emulators/device.hpp"
 #include "nav/emulators/faults.hpp"
+#include "nav/emulators/hand_guided_truth.hpp"
 #include "nav/emulators/mounted_truth.hpp"
 #include "nav/emulators/truth.hpp"
 
@@ -152,6 +153,8 @@ struct PeerSpec {
   std::string vehicle_name;
   std::optional<double> seabed_depth_m;
   emulators::TrajectorySpec trajectory;
+  std::optional<emulators::HandGuidedSpec> hand_guided;  ///< as Scenario::hand_guided
+  std::string hand_guided_location;                      ///< as Scenario::hand_guided_location
   std::vector<DeviceSpec> devices;
   DutSpec dut;
   std::vector<std::string> segment_locations;  ///< as Scenario::segment_locations
@@ -168,9 +171,22 @@ struct CanBusSpec {
 using Labels = std::vector<std::pair<std::string, std::string>>;
 
 /// Names a label may not have: the other columns of a campaign's comparison table.
-inline constexpr std::array<std::string_view, 7> kReservedLabelNames{
-    "scenario",        "runs",  "passed", "endpoint_error_mean_m", "endpoint_error_std_m",
-    "endpoint_error_min_m", "endpoint_error_max_m"};
+inline constexpr std::array<std::string_view, 15> kReservedLabelNames{
+    "scenario",
+    "runs",
+    "passed",
+    "endpoint_error_mean_m",
+    "endpoint_error_std_m",
+    "endpoint_error_min_m",
+    "endpoint_error_max_m",
+    "endpoint_horizontal_mean_m",
+    "endpoint_horizontal_std_m",
+    "endpoint_vertical_mean_m",
+    "endpoint_vertical_std_m",
+    "mean_position_error_mean_m",
+    "mean_position_error_std_m",
+    "mean_attitude_error_mean_deg",
+    "mean_attitude_error_std_deg"};
 
 struct Scenario {
   std::string file;          ///< path it was loaded from
@@ -187,6 +203,10 @@ struct Scenario {
   /// vehicle.can: the buses of its CAN devices, in file order (empty: none).
   std::vector<CanBusSpec> can_buses;
   emulators::TrajectorySpec trajectory;
+  /// vehicle.hand_guided: the vehicle is a rig moved by hand along its path (the hand-guided
+  /// truth kind, hand_guided_truth.hpp); nullopt: it follows the path exactly.
+  std::optional<emulators::HandGuidedSpec> hand_guided;
+  std::string hand_guided_location;  ///< "file:line:col" of vehicle.hand_guided (errors)
   std::vector<DeviceSpec> devices;
   DutSpec dut;
   std::vector<CheckSpec> checks;

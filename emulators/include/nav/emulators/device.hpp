@@ -50,22 +50,33 @@ struct TriadErrors {
   double white_std = 0.0;      ///< white noise standard deviation per sample [unit]
   double bias = 0.0;           ///< constant bias [unit], same on each axis
   double bias_walk_std = 0.0;  ///< bias random walk [unit/sqrt(s)]
+  /// Bias instability: the standard deviation of a first-order Gauss-Markov bias, stationary
+  /// from the first sample [unit]; 0 = none.
+  double instability_std = 0.0;
+  double instability_tau_s = 100.0;  ///< its correlation time [s] (> 0)
 };
 
-/// Applies white noise, constant bias and bias random walk to a triad.
+/// Applies white noise, constant bias, bias random walk and bias instability to a triad.
 class TriadErrorModel {
  public:
-  explicit TriadErrorModel(const TriadErrors& e) : e_(e), walk_(Vec3::Zero()) {}
-  /// Truth plus errors; dt_s advances the random walk [s] (0 for the first sample).
-  /// Always draws six normals in this order: walk x, y, z, then white x, y, z (also when a
-  /// standard deviation is 0, so enabling one error term leaves the others' draws unchanged).
+  explicit TriadErrorModel(const TriadErrors& e)
+      : e_(e), walk_(Vec3::Zero()), markov_(Vec3::Zero()) {}
+  /// Truth plus errors; dt_s advances the random walk and the Gauss-Markov bias [s] (0 for
+  /// the first sample). Always draws six normals in this order: walk x, y, z, then white x,
+  /// y, z (also when a standard deviation is 0, so enabling one error term leaves the others'
+  /// draws unchanged); then, only with a bias instability, three more (its x, y, z), so a
+  /// triad without one draws exactly what it drew before the term existed.
   Vec3 apply(const Vec3& truth, double dt_s, std::mt19937_64& rng);
   /// Current bias random-walk state [unit].
   const Vec3& walk() const { return walk_; }
+  /// Current Gauss-Markov (bias instability) state [unit].
+  const Vec3& markov() const { return markov_; }
 
  private:
   TriadErrors e_;
   Vec3 walk_;
+  Vec3 markov_;
+  bool started_ = false;  ///< a first sample was drawn (the Gauss-Markov state is stationary)
 };
 
 /// One part per million, for scale-factor errors given in ppm [-].
