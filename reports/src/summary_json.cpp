@@ -32,19 +32,21 @@ json files_json(const std::vector<DutFile>& files) {
   return out;
 }
 
-/// max, rms and final value of an error over a vehicle's aligned samples; null when none.
+/// max, mean, rms and final value of an error over a vehicle's aligned samples (one per
+/// solution with a valid position: at the DUT's solution rate, the mean is the time average);
+/// null when none.
 template <typename Value>
 json error_figures(const std::vector<AlignedSample>& a, Value value) {
   if (a.empty()) return nullptr;
-  double max = 0.0, sum_sq = 0.0;
+  double max = 0.0, sum = 0.0, sum_sq = 0.0;
   for (const auto& s : a) {
     const double v = value(s);
     max = std::max(max, v);
+    sum += v;
     sum_sq += v * v;
   }
-  return {{"max", max},
-          {"rms", std::sqrt(sum_sq / static_cast<double>(a.size()))},
-          {"final", value(a.back())}};
+  const auto n = static_cast<double>(a.size());
+  return {{"max", max}, {"mean", sum / n}, {"rms", std::sqrt(sum_sq / n)}, {"final", value(a.back())}};
 }
 
 json vehicle_json(const VehicleTrack& v, bool primary) {
@@ -58,6 +60,8 @@ json vehicle_json(const VehicleTrack& v, bool primary) {
                      {"answers", v.answers}}},
             {"solutions", a.size()},
             {"distance_m", v.truth.empty() ? json(nullptr) : json(v.truth.back().distance_m)}};
+  j["position_error_m"] =
+      error_figures(a, [](const AlignedSample& s) { return (s.est_p_n - s.truth_p_n).norm(); });
   j["horizontal_error_m"] = error_figures(
       a, [](const AlignedSample& s) { return (s.est_p_n - s.truth_p_n).head<2>().norm(); });
   j["vertical_error_m"] = error_figures(

@@ -96,6 +96,7 @@ TEST(NavbenchCampaign, ComparesTwoScenariosOverThreeSeeds) {
             std::string::npos);
   ASSERT_EQ(campaign["runs"].size(), 6u);
   std::map<std::string, std::map<std::uint64_t, double>> endpoint;  // scenario -> seed -> m
+  std::map<std::string, std::vector<double>> vertical, attitude;  // scenario -> runs' figures
   for (const auto& run : campaign["runs"]) {
     SCOPED_TRACE(run.dump());
     EXPECT_EQ(run["status"], "finished");
@@ -112,6 +113,8 @@ TEST(NavbenchCampaign, ComparesTwoScenariosOverThreeSeeds) {
     const double v = check_value(s, arc ? "final_position" : "endpoint_error");
     EXPECT_EQ(run["endpoint_error_m"].get<double>(), v);
     endpoint[name][run["seed"].get<std::uint64_t>()] = v;
+    vertical[name].push_back(s["vehicles"][0]["vertical_error_m"]["final"].get<double>());
+    attitude[name].push_back(s["vehicles"][0]["attitude_error_deg"]["mean"].get<double>());
     const std::string config = s["dut"]["command"][2];
     EXPECT_EQ(config, fs::path(source_path(arc ? kArc : kStraight)).parent_path().string() +
                           (arc ? "/navd-stiff.yaml" : "/navd-default.yaml"));
@@ -132,11 +135,14 @@ TEST(NavbenchCampaign, ComparesTwoScenariosOverThreeSeeds) {
   ASSERT_EQ(csv.size(), 3u) << slurp(out / "comparison.csv");
   EXPECT_EQ(csv[0],
             "path,gains,motion,scenario,runs,passed,endpoint_error_mean_m,endpoint_error_std_m,"
-            "endpoint_error_min_m,endpoint_error_max_m");
+            "endpoint_error_min_m,endpoint_error_max_m,endpoint_horizontal_mean_m,"
+            "endpoint_horizontal_std_m,endpoint_vertical_mean_m,endpoint_vertical_std_m,"
+            "mean_position_error_mean_m,mean_position_error_std_m,mean_attitude_error_mean_deg,"
+            "mean_attitude_error_std_deg");
   const std::string md = slurp(out / "comparison.md");
   for (std::size_t row = 1; row <= 2; ++row) {
     const auto f = split(csv[row], ',');
-    ASSERT_EQ(f.size(), 10u) << csv[row];
+    ASSERT_EQ(f.size(), 18u) << csv[row];
     const std::string name = f[3];
     ASSERT_TRUE(endpoint.count(name)) << csv[row];
     std::vector<double> v;
@@ -151,6 +157,12 @@ TEST(NavbenchCampaign, ComparesTwoScenariosOverThreeSeeds) {
     EXPECT_EQ(f[7], three_decimals(sd)) << name;
     EXPECT_EQ(f[8], three_decimals(*std::min_element(v.begin(), v.end())));
     EXPECT_EQ(f[9], three_decimals(*std::max_element(v.begin(), v.end())));
+    // The summaries' figures: the vertical part of the final error, the mean attitude error.
+    const auto mean_of = [](const std::vector<double>& x) {
+      return (x[0] + x[1] + x[2]) / 3.0;
+    };
+    EXPECT_EQ(f[12], three_decimals(mean_of(vertical[name]))) << name;
+    EXPECT_EQ(f[16], three_decimals(mean_of(attitude[name]))) << name;
     const std::string md_row = " | " + name + " | 3 | 3 | " + three_decimals(mean) + " \u00b1 " +
                                three_decimals(sd) + " | ";
     EXPECT_NE(md.find(md_row), std::string::npos) << md_row << "\n" << md;

@@ -112,6 +112,7 @@ std::optional<int> write_campaign_outputs(const fs::path& dir, const CampaignPla
       r.exit_code = res->exit_code;
       r.verdict = res->verdict;
       r.endpoint_error_m = res->endpoint_error_m;
+      r.figures = res->figures;
       r.wall_time_s = res->wall_time_s;
       codes.push_back(run_code_under_campaign_checks(res->exit_code,
                                                      plan.scenarios[plan.scenario_of(i)]));
@@ -227,17 +228,23 @@ std::optional<int> write_campaign_outputs(const fs::path& dir, const CampaignPla
     }
   }
   j["comparison"] = json::array();
+  const auto stats = [&](const SampleStats& s) {
+    return json{{"n", s.n},
+                {"mean", number_or_null(s.mean)},
+                {"std", number_or_null(s.stddev)},
+                {"min", number_or_null(s.min)},
+                {"max", number_or_null(s.max)}};
+  };
   for (const auto& row : rows) {
     j["comparison"].push_back({{"scenario", row.scenario},
                                {"labels", labels_json(row.labels)},
                                {"runs", row.runs},
                                {"passed", row.passed},
-                               {"endpoint_error_m",
-                                {{"n", row.endpoint.n},
-                                 {"mean", number_or_null(row.endpoint.mean)},
-                                 {"std", number_or_null(row.endpoint.stddev)},
-                                 {"min", number_or_null(row.endpoint.min)},
-                                 {"max", number_or_null(row.endpoint.max)}}}});
+                               {"endpoint_error_m", stats(row.endpoint)},
+                               {"endpoint_horizontal_m", stats(row.endpoint_horizontal)},
+                               {"endpoint_vertical_m", stats(row.endpoint_vertical)},
+                               {"mean_position_error_m", stats(row.mean_position)},
+                               {"mean_attitude_error_deg", stats(row.mean_attitude)}});
   }
   j["campaign_checks"] = json::array();
   for (const auto& v : verdicts) j["campaign_checks"].push_back(verdict_json(v));

@@ -34,6 +34,13 @@ nlohmann::ordered_json result_json(const CampaignResult& r) {
   j["verdict"] = r.verdict;
   j["endpoint_error_m"] =
       r.endpoint_error_m ? nlohmann::ordered_json(*r.endpoint_error_m) : nullptr;
+  const auto opt = [](const std::optional<double>& v) {
+    return v ? nlohmann::ordered_json(*v) : nlohmann::ordered_json(nullptr);
+  };
+  j["figures"] = {{"endpoint_horizontal_m", opt(r.figures.endpoint_horizontal_m)},
+                  {"endpoint_vertical_m", opt(r.figures.endpoint_vertical_m)},
+                  {"mean_position_error_m", opt(r.figures.mean_position_m)},
+                  {"mean_attitude_error_deg", opt(r.figures.mean_attitude_deg)}};
   j["checks"] = nlohmann::ordered_json::array();
   for (const auto& c : r.checks) {
     j["checks"].push_back({{"name", c.name},
@@ -45,6 +52,21 @@ nlohmann::ordered_json result_json(const CampaignResult& r) {
   j["host"] = r.host;
   j["finished_utc"] = r.finished_utc;
   return j;
+}
+
+RunFigures run_figures_from_summary(const nlohmann::json& summary) {
+  RunFigures f;
+  const auto& vehicles = json_at(summary, "vehicles");
+  if (!vehicles.is_array() || vehicles.empty()) return f;
+  const auto& v = vehicles.front();
+  const auto figure = [&](const char* block, const char* key, std::optional<double>& out) {
+    if (const auto& x = json_at(json_at(v, block), key); x.is_number()) out = x.get<double>();
+  };
+  figure("horizontal_error_m", "final", f.endpoint_horizontal_m);
+  figure("vertical_error_m", "final", f.endpoint_vertical_m);
+  figure("position_error_m", "mean", f.mean_position_m);
+  figure("attitude_error_deg", "mean", f.mean_attitude_deg);
+  return f;
 }
 
 Result<CampaignResult> result_from_json(const nlohmann::json& j, const std::string& where) {
@@ -91,6 +113,14 @@ Result<CampaignResult> result_from_json(const nlohmann::json& j, const std::stri
   r.exit_code = json_at(j, "exit_code").get<int>();
   r.verdict = json_at(j, "verdict").get<std::string>();
   if (const auto& e = json_at(j, "endpoint_error_m"); e.is_number()) r.endpoint_error_m = e.get<double>();
+  const auto& fig = json_at(j, "figures");  // absent in results of older navbench versions
+  const auto figure = [&](const char* key, std::optional<double>& out) {
+    if (const auto& v = json_at(fig, key); v.is_number()) out = v.get<double>();
+  };
+  figure("endpoint_horizontal_m", r.figures.endpoint_horizontal_m);
+  figure("endpoint_vertical_m", r.figures.endpoint_vertical_m);
+  figure("mean_position_error_m", r.figures.mean_position_m);
+  figure("mean_attitude_error_deg", r.figures.mean_attitude_deg);
   for (const auto& c : json_at(j, "checks")) {
     if (!json_at(c, "name").is_string() || !json_at(c, "passed").is_boolean()) {
       return bad("a check needs \"name\" and \"passed\"");
@@ -118,7 +148,8 @@ Result<CampaignResult> read_result(const std::filesystem::path& folder) {
 bool same_result(const CampaignResult& a, const CampaignResult& b) {
   return a.index == b.index && a.run_name == b.run_name && a.inputs == b.inputs &&
          a.exit_code == b.exit_code && a.verdict == b.verdict &&
-         a.endpoint_error_m == b.endpoint_error_m && a.checks == b.checks;
+         a.endpoint_error_m == b.endpoint_error_m && a.figures == b.figures &&
+         a.checks == b.checks;
 }
 
 RunInputs current_inputs(const CampaignPlan& plan, std::size_t i,

@@ -197,6 +197,7 @@ IndexEnd finish_index(const CampaignPlan& plan, std::size_t i, const fs::path& r
       if (!sc.endpoint_check.empty()) {
         r.endpoint_error_m = endpoint_error_from_summary(j, sc.endpoint_check);
       }
+      r.figures = run_figures_from_summary(j);
       r.checks = run_checks_from_summary(j);
       r.inputs.dut_sha256 = dut_sha256_of(j);
       r.inputs.dut_files_sha256 = dut_files_sha256_of(j);

@@ -83,16 +83,28 @@ std::vector<ComparisonRow> comparison_rows(
     ComparisonRow row;
     row.scenario = name;
     row.labels = labels;
-    std::vector<double> values;
+    std::vector<double> values, horizontal, vertical, position, attitude;
+    const auto add = [](std::vector<double>& to, const std::optional<double>& v) {
+      if (v) to.push_back(*v);
+    };
     for (const auto& r : runs) {
       if (r.scenario != name || !r.finished) continue;
       ++row.runs;
       if (r.exit_code == kExitPass) ++row.passed;
       // Runs that crashed, hung or were cut short did not reach the end: no endpoint.
       const bool reached_end = r.exit_code == kExitPass || r.exit_code == kExitFail;
-      if (reached_end && r.endpoint_error_m) values.push_back(*r.endpoint_error_m);
+      if (!reached_end) continue;
+      add(values, r.endpoint_error_m);
+      add(horizontal, r.figures.endpoint_horizontal_m);
+      add(vertical, r.figures.endpoint_vertical_m);
+      add(position, r.figures.mean_position_m);
+      add(attitude, r.figures.mean_attitude_deg);
     }
     row.endpoint = sample_stats(values);
+    row.endpoint_horizontal = sample_stats(horizontal);
+    row.endpoint_vertical = sample_stats(vertical);
+    row.mean_position = sample_stats(position);
+    row.mean_attitude = sample_stats(attitude);
     rows.push_back(std::move(row));
   }
   return rows;
@@ -113,13 +125,20 @@ std::string comparison_csv(const std::vector<ComparisonRow>& rows) {
   std::string o;
   for (const auto& l : labels) o += csv_field(l) + ",";
   o += "scenario,runs,passed,endpoint_error_mean_m,endpoint_error_std_m,endpoint_error_min_m,"
-       "endpoint_error_max_m\n";
+       "endpoint_error_max_m,endpoint_horizontal_mean_m,endpoint_horizontal_std_m,"
+       "endpoint_vertical_mean_m,endpoint_vertical_std_m,mean_position_error_mean_m,"
+       "mean_position_error_std_m,mean_attitude_error_mean_deg,mean_attitude_error_std_deg\n";
   for (const auto& row : rows) {
     for (const auto& l : labels) o += csv_field(label_value(row.labels, l)) + ",";
     const auto& e = row.endpoint;
     o += csv_field(row.scenario) + "," + std::to_string(row.runs) + "," +
          std::to_string(row.passed) + "," + metres(e.mean, "") + "," + metres(e.stddev, "") +
-         "," + metres(e.min, "") + "," + metres(e.max, "") + "\n";
+         "," + metres(e.min, "") + "," + metres(e.max, "");
+    for (const SampleStats* f : {&row.endpoint_horizontal, &row.endpoint_vertical,
+                                 &row.mean_position, &row.mean_attitude}) {
+      o += "," + metres(f->mean, "") + "," + metres(f->stddev, "");
+    }
+    o += "\n";
   }
   return o;
 }
@@ -132,8 +151,10 @@ std::string comparison_markdown(const std::vector<ComparisonRow>& rows) {
     head += " " + md_cell(l) + " |";
     rule += "---|";
   }
-  head += " scenario | runs | passed | endpoint error [m] mean \u00b1 std | min [m] | max [m] |\n";
-  rule += "---|---:|---:|---:|---:|---:|\n";
+  head += " scenario | runs | passed | endpoint error [m] mean \u00b1 std | min [m] | max [m] |"
+          " horizontal [m] | vertical [m] | mean position error [m] |"
+          " mean attitude error [deg] |\n";
+  rule += "---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
   std::string o = head + rule;
   for (const auto& row : rows) {
     o += "|";
@@ -141,12 +162,15 @@ std::string comparison_markdown(const std::vector<ComparisonRow>& rows) {
       const std::string v = label_value(row.labels, l);
       o += " " + (v.empty() ? kNone : md_cell(v)) + " |";
     }
+    const auto mean_std = [](const SampleStats& s) {
+      return s.n == 0 ? kNone : metres(s.mean, kNone) + " \u00b1 " + metres(s.stddev, kNone);
+    };
     const auto& e = row.endpoint;
-    const std::string mean_std =
-        e.n == 0 ? kNone : metres(e.mean, kNone) + " \u00b1 " + metres(e.stddev, kNone);
     o += " " + md_cell(row.scenario) + " | " + std::to_string(row.runs) + " | " +
-         std::to_string(row.passed) + " | " + mean_std + " | " + metres(e.min, kNone) + " | " +
-         metres(e.max, kNone) + " |\n";
+         std::to_string(row.passed) + " | " + mean_std(e) + " | " + metres(e.min, kNone) +
+         " | " + metres(e.max, kNone) + " | " + mean_std(row.endpoint_horizontal) + " | " +
+         mean_std(row.endpoint_vertical) + " | " + mean_std(row.mean_position) + " | " +
+         mean_std(row.mean_attitude) + " |\n";
   }
   return o;
 }

@@ -215,6 +215,8 @@ CampaignResult a_result() {
   r.exit_code = 1;
   r.verdict = "FAIL";
   r.endpoint_error_m = 0.123456789012345;
+  r.figures.endpoint_horizontal_m = 0.1;
+  r.figures.mean_attitude_deg = 1.0 / 3.0;
   r.wall_time_s = 2.5;
   r.host = "node-1";
   r.finished_utc = "2026-12-02T21:10:00Z";
@@ -227,6 +229,14 @@ TEST(CampaignResult, ReadsBackAsWritten) {
   ASSERT_TRUE(back) << back.error().detail;
   EXPECT_TRUE(same_result(*back, r));
   EXPECT_EQ(back->endpoint_error_m, r.endpoint_error_m);  // every bit
+  EXPECT_EQ(back->figures, r.figures);
+  EXPECT_FALSE(back->figures.endpoint_vertical_m);
+  // A result of an older navbench, without figures, reads as none.
+  nlohmann::json old = nlohmann::json::parse(result_json(r).dump());
+  old.erase("figures");
+  const auto old_back = result_from_json(old, "result.json");
+  ASSERT_TRUE(old_back);
+  EXPECT_EQ(old_back->figures, RunFigures{});
   EXPECT_EQ(back->host, "node-1");
   nlohmann::json broken = nlohmann::json::parse(result_json(r).dump());
   broken["inputs"].erase("dut_sha256");

@@ -97,15 +97,25 @@ TEST(ComparisonRows, OneRowPerScenarioOverItsFinishedRuns) {
 }
 
 TEST(ComparisonTable, CsvHasLabelColumnsFirstAndEmptyFieldsForUndefined) {
-  const std::vector<CampaignRun> runs{run("circle-ekf", 1, 0, 0.412), run("circle-ekf", 2, 0, 0.5),
-                                      run("line-cf", 1, 1, 3.25)};
+  std::vector<CampaignRun> runs{run("circle-ekf", 1, 0, 0.412), run("circle-ekf", 2, 0, 0.5),
+                                run("line-cf", 1, 1, 3.25)};
+  // Figures: horizontal 0.33 and 0.47 (mean 0.4, std 0.099), vertical in one run only (no
+  // std), no mean position error, mean attitude 1 and 2 deg (mean 1.5, std 0.707).
+  runs[0].figures.endpoint_horizontal_m = 0.33;
+  runs[1].figures.endpoint_horizontal_m = 0.47;
+  runs[0].figures.endpoint_vertical_m = 0.2;
+  runs[0].figures.mean_attitude_deg = 1.0;
+  runs[1].figures.mean_attitude_deg = 2.0;
   const auto csv = comparison_csv(comparison_rows(kScenarios, runs));
   EXPECT_EQ(csv,
             "path,attitude,speed,scenario,runs,passed,endpoint_error_mean_m,endpoint_error_std_m,"
-            "endpoint_error_min_m,endpoint_error_max_m\n"
-            "circle,ekf,,circle-ekf,2,2,0.456,0.062,0.412,0.500\n"
-            ",cf,\"1,5 kn\",line-cf,1,0,3.250,,3.250,3.250\n"
-            ",,,bare,0,0,,,,\n");
+            "endpoint_error_min_m,endpoint_error_max_m,endpoint_horizontal_mean_m,"
+            "endpoint_horizontal_std_m,endpoint_vertical_mean_m,endpoint_vertical_std_m,"
+            "mean_position_error_mean_m,mean_position_error_std_m,mean_attitude_error_mean_deg,"
+            "mean_attitude_error_std_deg\n"
+            "circle,ekf,,circle-ekf,2,2,0.456,0.062,0.412,0.500,0.400,0.099,0.200,,,,1.500,0.707\n"
+            ",cf,\"1,5 kn\",line-cf,1,0,3.250,,3.250,3.250,,,,,,,,\n"
+            ",,,bare,0,0,,,,,,,,,,,,\n");
 }
 
 TEST(ComparisonTable, MarkdownShowsMeanPlusMinusStdAndDashes) {
@@ -114,11 +124,15 @@ TEST(ComparisonTable, MarkdownShowsMeanPlusMinusStdAndDashes) {
   const auto md = comparison_markdown(comparison_rows(kScenarios, runs));
   EXPECT_EQ(md,
             "| path | attitude | speed | scenario | runs | passed | endpoint error [m] mean \u00b1 "
-            "std | min [m] | max [m] |\n"
-            "|---|---|---|---|---:|---:|---:|---:|---:|\n"
-            "| circle | ekf | \u2014 | circle-ekf | 2 | 2 | 0.456 \u00b1 0.062 | 0.412 | 0.500 |\n"
-            "| \u2014 | cf | 1,5 kn | line-cf | 1 | 0 | 3.250 \u00b1 \u2014 | 3.250 | 3.250 |\n"
-            "| \u2014 | \u2014 | \u2014 | bare | 0 | 0 | \u2014 | \u2014 | \u2014 |\n");
+            "std | min [m] | max [m] | horizontal [m] | vertical [m] | mean position error [m] |"
+            " mean attitude error [deg] |\n"
+            "|---|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n"
+            "| circle | ekf | \u2014 | circle-ekf | 2 | 2 | 0.456 \u00b1 0.062 | 0.412 | 0.500 |"
+            " \u2014 | \u2014 | \u2014 | \u2014 |\n"
+            "| \u2014 | cf | 1,5 kn | line-cf | 1 | 0 | 3.250 \u00b1 \u2014 | 3.250 | 3.250 |"
+            " \u2014 | \u2014 | \u2014 | \u2014 |\n"
+            "| \u2014 | \u2014 | \u2014 | bare | 0 | 0 | \u2014 | \u2014 | \u2014 |"
+            " \u2014 | \u2014 | \u2014 | \u2014 |\n");
 }
 
 TEST(ComparisonTable, MarkdownEscapesPipes) {
@@ -153,6 +167,24 @@ TEST(EndpointFromSummary, NothingMeasuredWhenNotJudgedOrNoSolutions) {
   skipped["judged"] = false;
   EXPECT_FALSE(endpoint_error_from_summary(summary_with(skipped), "endpoint_error"));
   EXPECT_FALSE(endpoint_error_from_summary(nlohmann::json::object(), "endpoint_error"));
+}
+
+TEST(RunFiguresFromSummary, ReadsThePrimaryVehiclesFigures) {
+  const nlohmann::json s = {
+      {"vehicles",
+       {{{"name", "rig"},
+         {"horizontal_error_m", {{"max", 3.0}, {"mean", 1.0}, {"final", 2.5}}},
+         {"vertical_error_m", {{"max", 1.0}, {"mean", 0.5}, {"final", 0.75}}},
+         {"position_error_m", {{"max", 3.5}, {"mean", 1.25}, {"final", 2.6}}},
+         {"attitude_error_deg", nullptr}},
+        {{"name", "peer"}, {"horizontal_error_m", {{"final", 99.0}}}}}}};
+  const RunFigures f = run_figures_from_summary(s);
+  EXPECT_EQ(f.endpoint_horizontal_m, 2.5);
+  EXPECT_EQ(f.endpoint_vertical_m, 0.75);
+  EXPECT_EQ(f.mean_position_m, 1.25);
+  EXPECT_FALSE(f.mean_attitude_deg);  // no solution judged: null in the summary
+  EXPECT_EQ(run_figures_from_summary(nlohmann::json::object()), RunFigures{});
+  EXPECT_EQ(run_figures_from_summary(nlohmann::json{{"vehicles", 3}}), RunFigures{});
 }
 
 TEST(CampaignExitCode, WorstWins) {

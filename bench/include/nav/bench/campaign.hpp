@@ -123,6 +123,7 @@ struct CampaignRun {
   int exit_code = -1;         ///< the child's exit code (finished runs)
   std::string verdict;        ///< from its summary.json, or what went wrong
   std::optional<double> endpoint_error_m;  ///< the endpoint_error check's value [m]
+  RunFigures figures;         ///< its error figures (campaign_result.hpp)
   std::string run_folder;     ///< relative to the campaign folder: runs/<name>-s<seed>
   double wall_time_s = 0.0;
 };
@@ -136,6 +137,9 @@ struct ComparisonRow {
   /// Endpoint errors of the finished runs that reached the end of the scenario (exit 0 or 1)
   /// and measured one [m].
   SampleStats endpoint;
+  /// The same runs' figures (RunFigures): the horizontal and vertical parts of the final
+  /// error [m], and the time-averaged position [m] and attitude [deg] errors.
+  SampleStats endpoint_horizontal, endpoint_vertical, mean_position, mean_attitude;
 };
 
 /// One row per scenario (in the order given), from the finished runs of that scenario.
@@ -147,11 +151,14 @@ std::vector<ComparisonRow> comparison_rows(
 std::vector<std::string> label_columns(const std::vector<ComparisonRow>& rows);
 
 /// CSV (RFC 4180, header line): label columns, scenario, runs, passed,
-/// endpoint_error_{mean,std,min,max}_m with 3 decimals; an undefined value is an empty field.
+/// endpoint_error_{mean,std,min,max}_m, endpoint_horizontal_{mean,std}_m,
+/// endpoint_vertical_{mean,std}_m, mean_position_error_{mean,std}_m,
+/// mean_attitude_error_{mean,std}_deg with 3 decimals; an undefined value is an empty field.
 std::string comparison_csv(const std::vector<ComparisonRow>& rows);
 
-/// A markdown table: label columns, scenario, runs, passed, "mean ± std", min, max in metres
-/// with 3 decimals; an undefined value is "—".
+/// A markdown table: label columns, scenario, runs, passed, endpoint error "mean ± std", min,
+/// max in metres, then "mean ± std" of its horizontal and vertical parts [m] and of the mean
+/// position [m] and attitude [deg] errors, with 3 decimals; an undefined value is "—".
 std::string comparison_markdown(const std::vector<ComparisonRow>& rows);
 
 /// The value [m] of the check named check_name in a run's summary.json, when that check was

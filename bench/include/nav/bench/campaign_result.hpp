@@ -47,6 +47,20 @@ struct RunCheck {
   bool operator==(const RunCheck&) const = default;
 };
 
+/// A run's error figures beside its checks, from the primary vehicle of its summary.json
+/// (`vehicles[0]`: every solution with a valid position, aligned to truth); none when the run
+/// judged no solution.
+struct RunFigures {
+  std::optional<double> endpoint_horizontal_m;  ///< horizontal part of the final error [m]
+  std::optional<double> endpoint_vertical_m;    ///< |vertical part| of the final error [m]
+  std::optional<double> mean_position_m;        ///< time average of the 3-D position error [m]
+  std::optional<double> mean_attitude_deg;      ///< time average of the attitude error [deg]
+  bool operator==(const RunFigures&) const = default;
+};
+
+/// The figures of a run's summary.json (any missing one stays none).
+RunFigures run_figures_from_summary(const nlohmann::json& summary);
+
 /// A finished index.
 struct CampaignResult {
   std::size_t index = 0;
@@ -56,6 +70,7 @@ struct CampaignResult {
   int exit_code = -1;     ///< navbench run's exit code
   std::string verdict;    ///< from its summary.json, or what went wrong
   std::optional<double> endpoint_error_m;  ///< the plan's endpoint check's value [m]
+  RunFigures figures;            ///< its error figures (comparison table)
   std::vector<RunCheck> checks;  ///< its judged checks (campaign checks judge them)
   double wall_time_s = 0.0;
   std::string host;       ///< where it ran
