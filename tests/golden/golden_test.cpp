@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// Golden lockstep regression of the P0 pool scenarios (tests/golden/CMakeLists.txt).
+// Golden lockstep regression of the paper scenarios (tests/golden/CMakeLists.txt).
 //
 // Each scenario runs once in lockstep (bit-reproducible); the DUT's output line is taken from
 // the run's capture-rx.log and summarised as: the number of solutions, a 64-bit FNV-1a digest
@@ -28,12 +28,14 @@ namespace fs = std::filesystem;
 
 constexpr std::size_t kEvery = 200;  // solutions between two quoted lines
 
-/// The P0 pool scenarios, by name (scenarios/p0-pool-*.yaml), sorted.
+/// The paper scenarios, by name (scenarios/p0-*.yaml: p0-pool-* and p0-paper-*;
+/// scenarios/p1-*.yaml), sorted.
 std::vector<std::string> golden_scenarios() {
   std::vector<std::string> names;
   for (const auto& e : fs::directory_iterator(source_path("scenarios"))) {
     const std::string stem = e.path().stem().string();
-    if (e.path().extension() == ".yaml" && stem.rfind("p0-pool-", 0) == 0) names.push_back(stem);
+    const bool paper = stem.rfind("p0-", 0) == 0 || stem.rfind("p1-", 0) == 0;
+    if (e.path().extension() == ".yaml" && paper) names.push_back(stem);
   }
   std::sort(names.begin(), names.end());
   return names;
@@ -80,7 +82,7 @@ TEST_P(Golden, LockstepOutputMatchesTheGoldenFile) {
   fs::remove_all(dir);
 }
 
-INSTANTIATE_TEST_SUITE_P(P0Pool, Golden, ::testing::ValuesIn(golden_scenarios()),
+INSTANTIATE_TEST_SUITE_P(Paper, Golden, ::testing::ValuesIn(golden_scenarios()),
                          [](const ::testing::TestParamInfo<std::string>& i) {
                            std::string n = i.param;
                            for (char& c : n) {
