@@ -209,10 +209,18 @@ std::string comparison(const CampaignFolder& c) {
   }
   std::vector<std::string> head = keys;
   for (const char* h : {"scenario", "runs", "passed", "endpoint error mean \u00b1 std [m]",
-                        "min [m]", "max [m]"}) {
+                        "min [m]", "max [m]", "horizontal [m]", "vertical [m]",
+                        "mean position error [m]", "mean attitude error [deg]"}) {
     head.emplace_back(h);
   }
-  std::string h = "<section id=\"comparison\"><h2>Comparison</h2><table>\n" + detail::header_row(head);
+  const auto mean_std = [](const json& e) {
+    std::string ms = detail::fixed(get_number(e, "mean"));
+    if (get_number(e, "std")) ms += " \u00b1 " + detail::fixed(get_number(e, "std"));
+    return ms;
+  };
+  // Nine figure columns after the labels: the table scrolls sideways on a narrow page.
+  std::string h = "<section id=\"comparison\"><h2>Comparison</h2><div class=\"scroll\"><table>\n" +
+                  detail::header_row(head);
   for (const auto& r : rows) {
     std::vector<std::string> cells;
     for (const auto& k : keys) cells.push_back(html_escape(get_string(member(r, "labels"), k.c_str(), "")));
@@ -220,16 +228,20 @@ std::string comparison(const CampaignFolder& c) {
     cells.push_back(html_escape(get_string(r, "scenario", "?")));
     cells.push_back(detail::num(get_number(r, "runs"), 10));
     cells.push_back(detail::num(get_number(r, "passed"), 10));
-    std::string ms = detail::fixed(get_number(e, "mean"));
-    if (get_number(e, "std")) ms += " \u00b1 " + detail::fixed(get_number(e, "std"));
-    cells.push_back(ms);
+    cells.push_back(mean_std(e));
     cells.push_back(detail::fixed(get_number(e, "min")));
     cells.push_back(detail::fixed(get_number(e, "max")));
-    h += detail::row(cells, std::string(keys.size() + 1, 't') + "nnnnn");
+    for (const char* figure : {"endpoint_horizontal_m", "endpoint_vertical_m",
+                               "mean_position_error_m", "mean_attitude_error_deg"}) {
+      cells.push_back(mean_std(member(r, figure)));
+    }
+    h += detail::row(cells, std::string(keys.size() + 1, 't') + "nnnnnnnnn");
   }
-  return h + "</table><p class=\"note\">Endpoint error: the value of each scenario's "
-             "endpoint_error check, over the runs that reached the end (exit 0 or 1); std is "
-             "the sample standard deviation.</p></section>\n";
+  return h + "</table></div><p class=\"note\">Endpoint error: the value of each scenario's "
+             "endpoint_error check; horizontal and vertical: the parts of the final "
+             "solution's error; mean position and attitude errors: averaged over each run's "
+             "solutions (the time average). All over the runs that reached the end (exit 0 or "
+             "1); std is the sample standard deviation.</p></section>\n";
 }
 
 /// The campaign's own checks: statements over each scenario's runs, with what the runs show.
