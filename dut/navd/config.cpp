@@ -8,7 +8,9 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "config_p1.hpp"
 #include "nav/common/escape.hpp"
+#include "nav/estimator/p1_driver.hpp"
 
 namespace nav::dut {
 namespace {
@@ -44,6 +46,7 @@ std::string known_keys() {
     s += f.name;
   }
   for (const auto& f : kNavdFields) s += std::string(", ") + f.name;
+  for (const auto& f : p1_fields()) s += std::string(", ") + f.name;
   return s;
 }
 
@@ -76,9 +79,14 @@ Result<void> set_choice(NavdConfig& config, const std::string& key, const YAML::
       config.navigator = NavigatorKind::kGpsIns;
     } else if (v == "dvl") {
       config.navigator = NavigatorKind::kDvl;
+    } else if (estimator::make_p1_navigator(v, estimator::P1Params{})) {
+      config.navigator = NavigatorKind::kP1;
+      config.p1_navigator = v;
     } else {
-      return fail(ErrorCode::kInvalidArgument,
-                  "unknown navigator '" + v + "' (expected gps-ins or dvl)");
+      return fail(ErrorCode::kInvalidArgument, "unknown navigator '" + v +
+                                                   "' (expected gps-ins, dvl or a paper P1 "
+                                                   "navigator: " +
+                                                   estimator::p1_navigator_names() + ")");
     }
     return {};
   }
@@ -90,8 +98,13 @@ Result<void> set_choice(NavdConfig& config, const std::string& key, const YAML::
 
 }  // namespace
 
-const char* navigator_name(NavigatorKind kind) {
-  return kind == NavigatorKind::kDvl ? "dvl" : "gps-ins";
+std::string navigator_name(const NavdConfig& config) {
+  switch (config.navigator) {
+    case NavigatorKind::kGpsIns: return "gps-ins";
+    case NavigatorKind::kDvl: return "dvl";
+    case NavigatorKind::kP1: return config.p1_navigator;
+  }
+  return "?";
 }
 
 Result<void> validate(const NavdParams& p) {
@@ -131,6 +144,22 @@ Result<NavdConfig> load_config(const std::string& path) {
       }
       continue;
     }
+    if (const P1Field* p1 = find_p1_field(name)) {
+      double v = 0.0;
+      try {
+        if (!value.IsScalar()) throw YAML::Exception(value.Mark(), "not a scalar");
+        v = value.as<double>();
+      } catch (const YAML::Exception&) {
+        return fail(ErrorCode::kParse, where(path, value.Mark()) + ": '" + name +
+                                           "' expects a number (" + p1->doc + ")");
+      }
+      p1->set(config.p1, v);
+      if (auto ok = estimator::validate(config.p1); !ok) {
+        return fail(ErrorCode::kInvalidArgument, where(path, value.Mark()) + ": " + name +
+                                                     ": " + ok.error().detail);
+      }
+      continue;
+    }
     const estimator::ParamField* field = find_field(name);
     const NavdField* navd_field = find_navd_field(name);
     if (field == nullptr && navd_field == nullptr) {
@@ -165,8 +194,10 @@ std::string config_keys_help() {
   const estimator::FilterParams defaults;
   std::string s = std::string("  ") + kNavigatorKey +
                   " (default gps-ins): gps-ins (AHRS + GPS Kalman filter anchored at the first "
-                  "GPS fix) or dvl (DVL dead reckoning from origin_lat_deg/origin_lon_deg/"
-                  "origin_depth_m, paper P0)\n  " +
+                  "GPS fix), dvl (DVL dead reckoning from origin_lat_deg/origin_lon_deg/"
+                  "origin_depth_m, paper P0), or a paper P1 navigator from that origin (" +
+                  estimator::p1_navigator_names() +
+                  ": strapdown INS only, or with the 15-state error EKF; the p1_* keys)\n  " +
                   kAttitudeKey + " (default mahony): attitude source, one of " +
                   estimator::attitude_filter_names() +
                   " (raw/ekf/ukf/cf: paper P0's no-filtering, Euler EKF, Euler UKF and PI "
@@ -182,6 +213,11 @@ std::string config_keys_help() {
   for (const auto& f : kNavdFields) {
     s += std::string("  ") + f.name + " (default " + format_g(navd_defaults.*(f.member)) +
          "): " + f.doc + "\n";
+  }
+  const estimator::P1Params p1_defaults;
+  for (const auto& f : p1_fields()) {
+    s += std::string("  ") + f.name + " (default " + format_g(f.get(p1_defaults)) + "): " +
+         f.doc + "\n";
   }
   return s;
 }

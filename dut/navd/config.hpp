@@ -16,6 +16,7 @@
 #include "nav/common/result.hpp"
 #include "nav/estimator/attitude_filter.hpp"
 #include "nav/estimator/filter_params.hpp"
+#include "nav/estimator/p1_types.hpp"
 
 namespace nav::dut {
 
@@ -30,6 +31,7 @@ struct NavdParams {
 enum class NavigatorKind {
   kGpsIns,  ///< "gps-ins": AHRS + GPS (+ depth) Kalman filter anchored at the first GPS fix
   kDvl,     ///< "dvl": DVL dead reckoning from the configured origin (paper P0)
+  kP1,      ///< "ins", "ekf15": a paper P1 navigator (p1_driver.hpp), NavdConfig::p1_navigator
 };
 
 /// Everything a config file sets.
@@ -39,10 +41,12 @@ struct NavdConfig {
   NavigatorKind navigator = NavigatorKind::kGpsIns;  ///< key `navigator`
   estimator::AttitudeFilterKind attitude =
       estimator::AttitudeFilterKind::kMahony;        ///< key `attitude_filter`
+  std::string p1_navigator;   ///< with kP1: the P1 navigator's name ("ins", "ekf15")
+  estimator::P1Params p1;     ///< the p1_* keys (config_p1.hpp); seed from --seed
 };
 
-/// "gps-ins" or "dvl".
-const char* navigator_name(NavigatorKind kind);
+/// The navigator's name: "gps-ins", "dvl" or the P1 navigator's.
+std::string navigator_name(const NavdConfig& config);
 
 /// Checks NavdParams ranges; the error names the field and the value.
 Result<void> validate(const NavdParams& p);

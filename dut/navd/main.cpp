@@ -182,6 +182,11 @@ int run(int argc, char** argv) {
                  "YAML file setting filter parameters by name (keys below); unknown keys are "
                  "an error")
       ->check(CLI::ExistingFile);
+  std::uint64_t seed = 1;
+  app.add_option("--seed", seed,
+                 "seed of the particle filters' random draws (navigators upf15, mfins); a "
+                 "scenario passes its run's: --seed \"{seed}\"")
+      ->capture_default_str();
   app.add_option("--delay-ms", opt.delay_ms,
                  "test aid: sleep this long before writing each solution, simulating a slow "
                  "estimator [ms]")
@@ -245,6 +250,7 @@ int run(int argc, char** argv) {
     }
     config = *loaded;
   }
+  config.p1.seed = seed;
 
   std::signal(SIGPIPE, SIG_IGN);
   // Caught from here on: a SIGTERM while the ports open stops navd at its first wake-up,

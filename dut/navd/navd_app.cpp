@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <cstring>
 
+#include "nav/common/ensure.hpp"
 #include "nav/common/frames.hpp"
 #include "nav/common/units.hpp"
 #include "nav/protocols/navd_solution.hpp"
@@ -112,6 +113,14 @@ NavdApp::NavdApp(boost::asio::io_context& io, boost::asio::signal_set& signals,
   const estimator::FilterParams& params = config.filter;
   if (config.navigator == NavigatorKind::kDvl) {
     dvl_nav_.emplace(params, config.attitude);
+  } else if (config.navigator == NavigatorKind::kP1) {
+    // main() checked the name and the parameters when it loaded the config.
+    auto nav = estimator::make_p1_navigator(config.p1_navigator, config.p1);
+    NAV_ENSURE(nav.has_value(), "navd: a P1 navigator from a checked config");
+    const geodesy::Geodetic origin{units::deg_to_rad(params.origin_lat_deg),
+                                   units::deg_to_rad(params.origin_lon_deg),
+                                   -params.origin_depth_m};
+    p1_nav_.emplace(std::move(*nav), origin, config.p1.max_dt_s);
   } else {
     gps_nav_.emplace(params, config.attitude);
   }
@@ -163,10 +172,12 @@ void NavdApp::handle_dvl_velocities() {
 }
 
 estimator::NavSolution NavdApp::nav_solution() const {
+  if (p1_nav_) return p1_nav_->solution();
   return gps_nav_ ? gps_nav_->solution() : dvl_nav_->solution();
 }
 
 estimator::AttitudeStatus NavdApp::attitude_status() const {
+  if (p1_nav_) return estimator::AttitudeStatus::kOk;  // P1 navigators count their faults
   return gps_nav_ ? gps_nav_->last_attitude_status() : dvl_nav_->last_attitude_status();
 }
 
@@ -251,6 +262,7 @@ void NavdApp::handle_gps(const protocols::nmea::Sentence& s) {
     fix.position.lon_rad = units::deg_to_rad(*gga->lon_deg);
     fix.position.alt_m = *gga->alt_msl_m;
     if (gps_nav_) gps_nav_->add_gps_position(fix);
+    if (p1_nav_) p1_nav_->add_gps_position(fix);
   } else if (s.type == "RMC") {
     const auto rmc = nmea::decode_rmc(s);
     if (!rmc) {
@@ -316,6 +328,7 @@ bool NavdApp::handle_ahrs(const protocols::gx3::AccelRateMag& m) {
   }
   if (gps_nav_) gps_nav_->on_ahrs(to_sample(m));
   if (dvl_nav_) dvl_nav_->on_ahrs(to_sample(m));
+  if (p1_nav_) p1_nav_->on_ahrs(to_sample(m));
   const estimator::NavSolution nav = nav_solution();
   // The position report due at this sample, from its estimate, also before its solution.
   if (modem_link_) write_modem(modem_link_->on_ahrs(m.timer_ticks, nav));
@@ -330,7 +343,12 @@ bool NavdApp::handle_ahrs(const protocols::gx3::AccelRateMag& m) {
   // the bench has them when the solution arrives, and a trigger costs one pty hand-off back
   // (docs/design-notes.md, campaign speed).
   std::string stated;
-  if (solution.status != "DEGRADED") {
+  if (p1_nav_) {
+    stated = solution_innovations(m.timer_ticks, p1_nav_->innovations());
+    if (const auto cov = solution_covariance(m.timer_ticks, p1_nav_->p1_solution())) {
+      stated += protocols::navd::encode(*cov);
+    }
+  } else if (solution.status != "DEGRADED") {
     stated = solution_innovations(
         m.timer_ticks, gps_nav_ ? gps_nav_->innovations() : dvl_nav_->innovations());
     const auto cov = solution_covariance(

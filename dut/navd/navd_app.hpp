@@ -62,6 +62,7 @@
 
 #include "nav/estimator/dvl_navigator.hpp"
 #include "nav/estimator/navigator.hpp"
+#include "nav/estimator/p1_driver.hpp"
 #include "nav/protocols/microstrain_gx3.hpp"
 #include "nav/protocols/nmea0183.hpp"
 #include "aiding_input.hpp"
@@ -217,6 +218,7 @@ class NavdApp {
   /// Exactly one of the two is set, by the config's `navigator`.
   std::optional<estimator::Navigator> gps_nav_;
   std::optional<estimator::DvlNavigator> dvl_nav_;
+  std::optional<estimator::P1Driver> p1_nav_;  ///< navigator: ins, ekf15 (paper P1)
   /// The estimate of whichever navigator runs.
   estimator::NavSolution nav_solution() const;
   /// Status of the last attitude step of whichever navigator runs.

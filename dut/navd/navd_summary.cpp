@@ -48,6 +48,21 @@ std::string NavdApp::stats_line(const std::string& reason) const {
   s += "; solutions written=" + std::to_string(out_.written()) +
        " dropped=" + std::to_string(out_.dropped()) +
        " unsent=" + std::to_string(out_.queued());
+  if (p1_nav_) {
+    const auto& d = p1_nav_->stats();
+    const auto& nav = p1_nav_->navigator().stats();
+    s += "; " + std::string(p1_nav_->navigator().name()) +
+         " imu_samples=" + std::to_string(nav.imu_samples) +
+         " imu_invalid=" + std::to_string(nav.imu_rejected_invalid) +
+         " dt_resets=" + std::to_string(d.dt_resets) +
+         " gps_fused=" + std::to_string(nav.gps_fused) +
+         " gps_rejected=" + std::to_string(nav.gps_rejected_invalid + nav.gps_rejected_gate) +
+         " gps_queue_dropped=" + std::to_string(d.gps_queue_dropped) +
+         " mag_fused=" + std::to_string(nav.mag_fused) +
+         " gravity_fused=" + std::to_string(nav.gravity_fused) +
+         " numerical_faults=" + std::to_string(nav.numerical_faults);
+    return s;
+  }
   if (gps_nav_) {
     const auto& nav = gps_nav_->stats();
     s += "; filter ahrs_invalid=" + std::to_string(nav.ahrs_rejected_invalid) +

@@ -40,6 +40,17 @@ std::optional<protocols::navd::SolutionCovariance> solution_covariance(
   return c;
 }
 
+std::optional<protocols::navd::SolutionCovariance> solution_covariance(
+    std::uint64_t tag, const estimator::P1Solution& p1) {
+  if (!p1.valid || !p1.has_covariance) return std::nullopt;
+  protocols::navd::SolutionCovariance c;
+  c.trigger_tag = tag;
+  c.attitude = block(p1.P_attitude_n, units::rad_to_deg(1.0));
+  c.position = block(p1.P_position_n, 1.0);
+  if (!c.attitude && !c.position) return std::nullopt;
+  return c;
+}
+
 std::string solution_innovations(std::uint64_t tag,
                                  const std::vector<estimator::Innovation>& updates) {
   std::string out;

@@ -14,6 +14,7 @@
 
 #include "nav/estimator/attitude_filter.hpp"
 #include "nav/estimator/navigator.hpp"
+#include "nav/estimator/p1_types.hpp"
 #include "nav/protocols/navd_covariance.hpp"
 #include "nav/protocols/navd_innovation.hpp"
 
@@ -24,6 +25,11 @@ namespace nav::dut {
 std::optional<protocols::navd::SolutionCovariance> solution_covariance(
     std::uint64_t tag, const estimator::NavSolution& nav, const estimator::AttitudeFilter& attitude,
     const estimator::PositionVelocityFilter* position_velocity);
+
+/// The covariance a paper P1 navigator states with its solution (position and attitude
+/// blocks); nullopt when it keeps none or neither block can be stated.
+std::optional<protocols::navd::SolutionCovariance> solution_covariance(
+    std::uint64_t tag, const estimator::P1Solution& p1);
 
 /// The `$PNVBINN` sentences of the updates made at the sample answering `tag`, one after
 /// another (empty when none): angles in degrees and fields in µT, the rest in the estimator's

@@ -56,12 +56,43 @@ TEST(NavdConfig, UnknownChoicesAreLocatedAndListTheValidNames) {
                    "ukf, cf, eskf)");
   const auto n = load_config(write_config("navigator: usbl\n"));
   ASSERT_FALSE(n.has_value());
-  EXPECT_NE(n.error().detail.find(":1:12: unknown navigator 'usbl' (expected gps-ins or dvl)"),
+  EXPECT_NE(n.error().detail.find(":1:12: unknown navigator 'usbl' (expected gps-ins, dvl or a "
+                                  "paper P1 navigator: ins, ekf15"),
             std::string::npos)
       << n.error().detail;
   const auto m = load_config(write_config("attitude_filter: [ekf]\n"));
   ASSERT_FALSE(m.has_value());
   EXPECT_NE(m.error().detail.find("'attitude_filter' expects a name"), std::string::npos);
+}
+
+TEST(NavdConfig, SelectsAPaperP1NavigatorAndItsParameters) {
+  const auto c = load_config(write_config(
+      "navigator: ekf15\np1_gps_position_std_m: 1.5\np1_initial_yaw_deg: 90\n"
+      "p1_mag_field_down_t: 41e-6\np1_particle_count: 250\n"));
+  ASSERT_TRUE(c.has_value()) << c.error().detail;
+  EXPECT_EQ(c->navigator, NavigatorKind::kP1);
+  EXPECT_EQ(c->p1_navigator, "ekf15");
+  EXPECT_EQ(navigator_name(*c), "ekf15");
+  EXPECT_EQ(c->p1.gps_position_std_m, 1.5);
+  EXPECT_NEAR(euler_from_quat(c->p1.initial_q_nb).yaw, 0.5 * 3.141592653589793, 1e-12);
+  EXPECT_EQ(c->p1.mag_field_n_tesla.z(), 41e-6);
+  EXPECT_EQ(c->p1.particle_count, 250);
+  EXPECT_EQ(c->p1.mag_field_n_tesla.x(), estimator::P1Params{}.mag_field_n_tesla.x());
+}
+
+TEST(NavdConfig, BadP1ParametersAreLocatedAndNamed) {
+  const auto neg = load_config(write_config("navigator: ins\np1_gps_position_std_m: -1\n"));
+  ASSERT_FALSE(neg.has_value());
+  EXPECT_NE(neg.error().detail.find(":2:24: p1_gps_position_std_m: "), std::string::npos)
+      << neg.error().detail;
+  const auto frac = load_config(write_config("p1_particle_count: 2.5\n"));
+  ASSERT_FALSE(frac.has_value());
+  EXPECT_NE(frac.error().detail.find("p1_particle_count"), std::string::npos)
+      << frac.error().detail;
+  const auto text = load_config(write_config("p1_initial_yaw_deg: north\n"));
+  ASSERT_FALSE(text.has_value());
+  EXPECT_NE(text.error().detail.find("expects a number (initial heading"), std::string::npos)
+      << text.error().detail;
 }
 
 TEST(NavdConfig, OriginOutOfRangeIsRefused) {
