@@ -12,9 +12,7 @@ using EM = P1ErrorModel;
 
 P1Ins::P1Ins(const P1Params& params) : params_(params) {
   NAV_ENSURE(validate(params).has_value(), "P1 parameters must be validated first");
-  x_.p_n = params.initial_p_n_m;
-  x_.v_n = params.initial_v_n_mps;
-  x_.q_nb = params.initial_q_nb.normalized();
+  x_ = EM::initial_state(params);
   P_ = EM::initial_covariance(params);
   Q_c_ = EM::continuous_noise(params);
 }

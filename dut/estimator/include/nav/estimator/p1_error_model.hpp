@@ -109,6 +109,10 @@ struct P1ErrorModel {
   static MatN process_noise(const MatN& Phi, const MatN& Q_c, double dt_s);
   /// P₀ = diag(σ_p², σ_v², σ_tilt², σ_tilt², σ_heading², σ_ba², σ_bg²).
   static MatN initial_covariance(const P1Params& p);
+  /// The nominal state at the start: the configured position, velocity and attitude.
+  static NavState initial_state(const P1Params& p) {
+    return NavState{p.initial_p_n_m, p.initial_v_n_mps, p.initial_q_nb.normalized()};
+  }
 
   /// H of E5 (3×15).
   static Mat<3, kN> gps_jacobian();
