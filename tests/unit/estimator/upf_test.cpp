@@ -5,7 +5,8 @@
 // (NaN measurement or input, a process noise that is not positive definite, the gate) and
 // particle failure (a Cholesky factorisation or a model that fails for some particles), with
 // the state, the generator included, untouched when nothing is fused. P1's dimensions (15 and
-// 9 states, 250 particles) run through the same template. Every seed is fixed.
+// 9 states, 250 particles) run through the same template (upf_shared_test.cpp: the
+// shared-covariance path and paper P1's weighting). Every seed is fixed.
 #include "nav/estimator/upf.hpp"
 
 #include <cmath>
@@ -14,102 +15,20 @@
 #include <numbers>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
 
 #include "nav/estimator/linear_kf.hpp"
 #include "test_support.hpp"
+#include "upf_test_support.hpp"
 
 namespace nav::estimator {
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-constexpr double kInf = std::numeric_limits<double>::infinity();
+using namespace upf_testing;  // NOLINT(google-build-using-namespace): the tests' own helpers
 
-/// Constant velocity on one axis, x = [p (m), v (m/s)], driven by a known acceleration a
-/// (m/s²) and white acceleration noise of density q [m²/s³] (Van Loan discretisation).
-struct CvProcess {
-  using Input = double;  ///< a [m/s²]
-  double q = 0.5;
-  static Mat<2, 2> F(double dt) { return (Mat<2, 2>() << 1.0, dt, 0.0, 1.0).finished(); }
-  static Vec<2> B(double dt) { return Vec<2>(0.5 * dt * dt, dt); }
-  Vec<2> f(const Vec<2>& x, const double& a, double dt) const { return F(dt) * x + B(dt) * a; }
-  Mat<2, 2> Q(const double& /*a*/, double dt) const {
-    return q * (Mat<2, 2>() << dt * dt * dt / 3.0, dt * dt / 2.0, dt * dt / 2.0, dt).finished();
-  }
-};
-
-/// Position measurement z = p + v, v ~ N(0, r) [m].
-struct PositionMeas {
-  static constexpr int kMeasDim = 1;
-  double r = 1.0;  ///< [m²]
-  Vec<1> h(const Vec<2>& x) const { return Vec<1>(x(0)); }
-  Mat<1, 1> R() const { return Mat<1, 1>(r); }
-};
-
-/// A simulated run of the CV model: per update, the inputs of the predicts and the position.
-struct CvRun {
-  static constexpr double kDt = 0.1;            // [s]
-  static constexpr int kPredictsPerUpdate = 5;
-  std::vector<double> a;                        // [m/s²], one per predict
-  std::vector<Vec<1>> z;                        // [m], one per update
-  CvRun(int updates, std::uint64_t seed, const CvProcess& process, const PositionMeas& meas) {
-    Rng rng(seed);
-    Vec<2> truth(3.0, 1.0);
-    const Eigen::LLT<Mat<2, 2>> Q_llt(process.Q(0.0, kDt));
-    const Mat<2, 2> L_Q = Q_llt.matrixL();
-    for (int k = 0; k < updates; ++k) {
-      for (int j = 0; j < kPredictsPerUpdate; ++j) {
-        const double t = kDt * static_cast<double>(k * kPredictsPerUpdate + j);
-        a.push_back(0.3 * std::sin(0.5 * t));
-        truth = process.f(truth, a.back(), kDt) + L_Q * Vec<2>(rng.normal(), rng.normal());
-      }
-      z.push_back(Vec<1>(truth(0) + std::sqrt(meas.r) * rng.normal()));
-    }
-  }
-};
-
-const Vec<2> kX0(0.0, 0.0);
-const Mat<2, 2> kP0 = Vec<2>(25.0, 4.0).asDiagonal();
-
-UpfParams params_with(int particles, double threshold = 0.5) {
-  UpfParams p;
-  p.particle_count = particles;
-  p.resample_threshold = threshold;
-  return p;
-}
-
-/// Everything a refused call must leave as it was.
-template <int N>
-struct Snapshot {
-  std::vector<Vec<N>> x;
-  std::vector<Mat<N, N>> P;
-  std::vector<double> log_w;
-  explicit Snapshot(const UnscentedParticleFilter<N>& f) {
-    for (int i = 0; i < f.particle_count(); ++i) {
-      x.push_back(f.particle_state(i));
-      P.push_back(f.particle_covariance(i));
-    }
-    log_w.assign(f.log_weights().begin(), f.log_weights().end());
-  }
-  bool operator==(const Snapshot&) const = default;
-};
-
-/// Runs the CV model through the UPF; calls check(k, filter, report) after each update.
-template <class Check>
-void run_upf(UnscentedParticleFilter<2>& upf, const CvRun& run, const CvProcess& process,
-             const PositionMeas& meas, Check&& check) {
-  std::size_t predict = 0;
-  for (std::size_t k = 0; k < run.z.size(); ++k) {
-    for (int j = 0; j < CvRun::kPredictsPerUpdate; ++j) {
-      ASSERT_EQ(upf.predict(process, run.a[predict++], CvRun::kDt).status, UnscentedStatus::kOk);
-    }
-    const UpfUpdateReport<1> r = upf.update(meas, run.z[k]);
-    ASSERT_EQ(r.status, UpdateStatus::kFused);
-    check(k, upf, r);
-  }
-}
 
 TEST(Upf, ConvergesToTheKalmanFilterOnALinearGaussianModel) {
   // 2000 particles, 40 updates of 5 predicts each. For a linear-Gaussian model the UPF's
@@ -448,83 +367,6 @@ TEST(Upf, ContractsAndParameterChecks) {
   EXPECT_LT((upf.mean() - Vec<2>(1.0, 2.0)).cwiseAbs().maxCoeff(), 1e-12);
 }
 
-/// A linear error-state model of K states driven by F = I + Δt A, Q = Δt diag(q), measured by
-/// its first three states (P1's GPS position): A couples δp ← δv and, for 15 states,
-/// δv ← ρ (−[g×]) and δb_acc, ρ ← δb_gyro; for 9 states δv ← δa.
-template <int K>
-struct ErrorModel {
-  using Input = double;  ///< unused
-  Mat<K, K> A = Mat<K, K>::Zero();
-  Vec<K> q = Vec<K>::Zero();  ///< noise densities, the state's units²/s
-  ErrorModel() {
-    A.template block<3, 3>(0, 3).setIdentity();  // δṗ = δv
-    if constexpr (K == 15) {
-      const double g = 9.81;  // [m/s²]
-      A(3, 7) = -g;           // δv̇ = −[g×] ρ − δb_acc, g = (0, 0, g) NED
-      A(4, 6) = g;
-      A.template block<3, 3>(3, 9) = -Mat<3, 3>::Identity();
-      A.template block<3, 3>(6, 12) = -Mat<3, 3>::Identity();  // ρ̇ = −δb_gyro
-      q << Vec<3>::Constant(1e-6), Vec<3>::Constant(1e-3), Vec<3>::Constant(1e-7),
-          Vec<3>::Constant(1e-8), Vec<3>::Constant(1e-12);
-    } else {
-      A.template block<3, 3>(3, 6).setIdentity();  // δv̇ = δa
-      q << Vec<3>::Constant(1e-6), Vec<3>::Constant(1e-3), Vec<3>::Constant(1e-4);
-    }
-  }
-  Mat<K, K> F(double dt) const { return Mat<K, K>::Identity() + dt * A; }
-  Vec<K> f(const Vec<K>& x, const double&, double dt) const { return F(dt) * x; }
-  Mat<K, K> Q(const double&, double dt) const { return (dt * q).asDiagonal(); }
-};
-
-template <int K>
-struct GpsPosition {
-  static constexpr int kMeasDim = 3;
-  Vec<3> h(const Vec<K>& x) const { return x.template head<3>(); }
-  Mat<3, 3> R() const { return Mat<3, 3>::Identity(); }  // 1 m per axis
-};
-
-template <int K>
-void run_p1_sized(std::uint64_t seed) {
-  const ErrorModel<K> model;
-  const GpsPosition<K> gps;
-  Vec<K> sigma0 = Vec<K>::Constant(0.01);
-  sigma0.template head<6>() << 3.0, 3.0, 3.0, 0.5, 0.5, 0.5;
-  const Mat<K, K> P0 = sigma0.cwiseProduct(sigma0).asDiagonal();
-  UnscentedParticleFilter<K> upf(params_with(250), seed, Vec<K>::Zero(), P0);
-  EXPECT_EQ(upf.sigma_weights().mean.size(), 2 * K + 1);
-  Vec<K> x_kf = Vec<K>::Zero();
-  Mat<K, K> P_kf = P0;
-  Mat<3, K> H = Mat<3, K>::Zero();
-  H.template leftCols<3>().setIdentity();
-  Rng rng(seed + 1);
-  for (int k = 0; k < 3; ++k) {
-    for (int j = 0; j < 10; ++j) {  // 10 IMU-rate predicts per GPS fix
-      ASSERT_EQ(upf.predict(model, 0.0, 0.01).status, UnscentedStatus::kOk);
-      x_kf = model.F(0.01) * x_kf;
-      predict_covariance<K>(P_kf, model.F(0.01), model.Q(0.0, 0.01));
-    }
-    const Vec<3> z(1.0 + rng.normal(), -2.0 + rng.normal(), 0.5 + rng.normal());
-    const UpfUpdateReport<3> r = upf.update(gps, z);
-    ASSERT_EQ(r.status, UpdateStatus::kFused);
-    const UpdateReport<3> r_kf = linear_update<K, 3>(x_kf, P_kf, z, H, gps.R());
-    ASSERT_EQ(r_kf.status, UpdateStatus::kFused);
-    const Vec<K> x = upf.mean();
-    const Mat<K, K> P = upf.covariance();
-    ASSERT_TRUE(x.allFinite());
-    ASSERT_TRUE(P.allFinite());
-    // Position and velocity (observed, large prior) within 0.35 σ_KF with 250 particles
-    // (~5 standard errors); position variance within 35 %.
-    for (int s = 0; s < 6; ++s) {
-      EXPECT_LT(std::abs(x(s) - x_kf(s)), 0.35 * std::sqrt(P_kf(s, s))) << "state " << s;
-    }
-    for (int s = 0; s < 3; ++s) EXPECT_NEAR(P(s, s) / P_kf(s, s), 1.0, 0.35) << "state " << s;
-  }
-}
-
-TEST(Upf, RunsP1DimensionsFifteenAndNineStates) {
-  run_p1_sized<15>(21);
-  run_p1_sized<9>(22);
-}
 
 }  // namespace
 }  // namespace nav::estimator

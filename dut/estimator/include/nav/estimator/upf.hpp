@@ -49,6 +49,26 @@
 // the Kalman filter (tests/unit/estimator/upf_test.cpp). Q must therefore be positive definite
 // (give every state some process noise); predict refuses one that is not.
 //
+// Paper P1's weighting (UpfParams::weighting = kLikelihood; the paper: "particles are drawn
+// from N(δx̂, P) of their UKF, weighted by the GPS likelihood, normalised, resampled"):
+//   L5  ln w_i += ln N(z; h(x̃_i), R)                        (P3, P4 as above)
+//   L6  the particle becomes (x̃_i, P̂_i): it goes on as a UKF from its draw
+// Each particle is then a UKF whose mean is jittered by a draw from its own posterior at every
+// weighted update, and the weights pull the cloud towards the fix. This is not the reference
+// UPF's importance weight: it counts the fix twice (once in the proposal, once in the weight)
+// and the mixture P11 holds P̂ plus the jitter's spread, so it does not converge to the Kalman
+// filter; it is kept because it is what the paper ran, and because a particle that keeps P̂_i
+// keeps the cloud's uncertainty through resampling, where P6's points lose it between rare
+// fixes (docs/estimators.md, "Paper P1").
+//   C1  correct(): a measurement the weights do not use (P1's magnetometer, at the IMU rate)
+//       is fused into every particle's UKF (U9..U13) with no draw and no weight change.
+//
+// Shared covariance (opt-in, P13..P16, upf_shared.hpp): for a process affine in the state with
+// a state-independent Q (UpfSharedCovarianceProcess) the filter keeps one P for all particles
+// while they share it (after reset, after every update), and for an affine measurement
+// (UpfLinearMeasurement) computes one gain and one factorisation per update: the per-particle
+// cost is a mean update and a draw. Same seed → the same draws as the generic path.
+//
 // Numerical health: a particle whose factorisation fails (P_i or P̂_i not positive definite) or
 // whose result is not finite is dropped (weight 0, state kept) and counted in the report; the
 // next update resamples it away. When no particle survives, or the update is refused (NaN/Inf
@@ -57,7 +77,6 @@
 #pragma once
 
 #include <cmath>
-#include <concepts>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -70,62 +89,13 @@
 #include <Eigen/Core>
 
 #include "nav/common/ensure.hpp"
-#include "nav/common/result.hpp"
 #include "nav/estimator/linear_kf.hpp"
 #include "nav/estimator/particle_filter.hpp"
 #include "nav/estimator/unscented.hpp"
 #include "nav/estimator/update_report.hpp"
+#include "nav/estimator/upf_types.hpp"
 
 namespace nav::estimator {
-
-/// Parameters of an UnscentedParticleFilter.
-struct UpfParams {
-  /// N_p, fixed at construction, >= 1 [-].
-  int particle_count = 250;
-  /// Resample when ESS < this × N_p, in (0, 1]; 1 resamples at almost every update [-].
-  double resample_threshold = 0.5;
-  /// Sigma points of every particle's UKF (defaults α = 1, β = 2, κ = 0; unscented.hpp).
-  UnscentedParams unscented{};
-};
-
-/// Checks the particle count, the threshold and the unscented parameters for state dimension n.
-Result<void> validate(const UpfParams& p, int n);
-
-/// A process model for the UPF: x_k = f(x_{k−1}, u, Δt) + q, q ~ N(0, Q(u, Δt)), Q positive
-/// definite. Input is the model's control/nominal-trajectory type. Optional: a member
-/// `bool input_valid(const Input&) const`; otherwise an Eigen input is checked with allFinite()
-/// and an arithmetic one with std::isfinite.
-template <class P, int N>
-concept UpfProcessModel = requires(const P& p, const Vec<N>& x, const typename P::Input& u,
-                                   double dt_s) {
-  { p.f(x, u, dt_s) } -> std::convertible_to<Vec<N>>;
-  { p.Q(u, dt_s) } -> std::convertible_to<Mat<N, N>>;
-};
-
-/// A measurement model for the UPF: z = h(x) + v, v ~ N(0, R), z of dimension kMeasDim.
-template <class H, int N>
-concept UpfMeasurementModel = requires(const H& m, const Vec<N>& x) {
-  { H::kMeasDim } -> std::convertible_to<int>;
-  { m.h(x) } -> std::convertible_to<Vec<H::kMeasDim>>;
-  { m.R() } -> std::convertible_to<Mat<H::kMeasDim, H::kMeasDim>>;
-};
-
-/// What a UPF predict did.
-struct UpfPredictReport {
-  /// kOk when at least one particle was propagated; otherwise why nothing changed.
-  UnscentedStatus status = UnscentedStatus::kRejectedInvalid;
-  int failed_particles = 0;  ///< particles dropped in this step (weight set to 0) [-]
-};
-
-/// What a UPF update did. y, S are the filter's innovation z − Σ w_i ẑ_i and its mixture
-/// covariance Σ w_i (S_i + (y_i − y)(y_i − y)ᵀ) (prior weights); nis = yᵀ S⁻¹ y is what the
-/// gate tests.
-template <int M>
-struct UpfUpdateReport : UpdateReport<M> {
-  double ess = 0.0;          ///< effective sample size after weighting, before resampling [-]
-  bool resampled = false;    ///< the particles were resampled (then ESS = N_p again)
-  int failed_particles = 0;  ///< particles dropped in this update (weight set to 0) [-]
-};
 
 /// Unscented particle filter over Vec<N> (see the file comment). Models are passed to each
 /// call, so one filter can fuse several measurement types and the host can move a model's
@@ -147,6 +117,7 @@ class UnscentedParticleFilter {
         w_(particles_.size()),
         log_w_new_(particles_.size()),
         x_new_(particles_.size()),
+        P_new_(particles_.size()),
         ancestors_(particles_.size()) {
     NAV_ENSURE(reset(x0, P0) == StepStatus::kApplied,
                "UPF initial state must be finite and its covariance positive definite");
@@ -163,10 +134,15 @@ class UnscentedParticleFilter {
       p = Particle{x0, P0, false};
     }
     set_uniform_weights();
+    shared_ = false;
+    uniform_ = true;
+    P_common_ = P0;
+    point_common_ = false;
     return StepStatus::kApplied;
   }
 
-  /// Propagates every live particle by Δt = dt_s [s] with input u (P1, P2).
+  /// Propagates every live particle by Δt = dt_s [s] with input u (P1, P2; P13 for a
+  /// UpfSharedCovarianceProcess while every P_i is equal).
   template <class Process>
     requires UpfProcessModel<Process, N>
   UpfPredictReport predict(const Process& process, const typename Process::Input& u,
@@ -184,6 +160,10 @@ class UnscentedParticleFilter {
       report.status = UnscentedStatus::kCholeskyFailed;
       return report;
     }
+    if constexpr (UpfSharedCovarianceProcess<Process, N>) {
+      if (uniform_) return predict_shared(process, u, dt_s, Q);
+    }
+    materialise();
     const auto f = [&process, &u, dt_s](const Vec<N>& x) -> Vec<N> {
       return process.f(x, u, dt_s);
     };
@@ -216,17 +196,14 @@ class UnscentedParticleFilter {
       report.status = first_failure;
       return report;
     }
-    if (report.failed_particles > 0) {
-      for (std::size_t i = 0; i < particles_.size(); ++i) {
-        if (!dead(i) && log_w_new_[i] == kMinusInf) log_w_[i] = kMinusInf;
-      }
-      normalize_log_weights(log_w_, w_);  // a survivor has a finite weight: cannot fail
-    }
+    uniform_ = false;  // the UKF predicts of different points give different P_i
+    drop_marked(report.failed_particles);
     report.status = UnscentedStatus::kOk;
     return report;
   }
 
-  /// Fuses z (P3..P9). `gate` > 0 refuses the update when the filter's NIS exceeds it.
+  /// Fuses z (P3..P9; P14, P15 for a UpfLinearMeasurement while every P_i is equal). `gate`
+  /// > 0 refuses the update when the filter's NIS exceeds it.
   template <class Meas>
     requires UpfMeasurementModel<Meas, N>
   UpfUpdateReport<Meas::kMeasDim> update(const Meas& meas, const Vec<Meas::kMeasDim>& z,
@@ -245,12 +222,16 @@ class UnscentedParticleFilter {
       report.status = UpdateStatus::kNumericalFault;
       return report;
     }
+    if constexpr (UpfLinearMeasurement<Meas, N>) {
+      if (uniform_) {
+        update_shared(meas, z, R, L_R, gate, report);
+        return report;
+      }
+    }
+    if (params_.weighting == UpfWeighting::kLikelihood) materialise();  // each keeps its P̂_i
     const auto h = [&meas](const Vec<N>& x) -> Vec<M> { return meas.h(x); };
     const Rng rng_before = rng_;
-    double w_sum = 0.0;  // prior weight of the particles that survive
-    Vec<M> y_sum = Vec<M>::Zero();
-    Mat<M, M> yy_sum = Mat<M, M>::Zero();
-    Mat<M, M> S_sum = Mat<M, M>::Zero();
+    Moments<M> mom;
     for (std::size_t i = 0; i < particles_.size(); ++i) {
       log_w_new_[i] = kMinusInf;
       x_new_[i] = particles_[i].x;
@@ -259,28 +240,32 @@ class UnscentedParticleFilter {
       Vec<M> y_i = Vec<M>::Zero();
       Mat<M, M> S_i = Mat<M, M>::Zero();
       double log_increment = 0.0;
-      if (p.point) {  // identity transition: reweight only (P7)
+      if (point_of(i)) {  // identity transition: reweight only (P7)
         y_i = z - h(p.x);
         S_i = R;
         log_increment = gaussian_log_density<M>(y_i, L_R);
       } else {
         Vec<N> x_hat = p.x;
-        Mat<N, N> P_hat = p.P;
+        Mat<N, N> P_hat = prior_of(i);  // the shared P for every particle (P16)
         UkfFactors<N> fac;
         const UpdateReport<M> ukf = ukf_update<N, M>(x_hat, P_hat, weights_, h, z, R, 0.0, &fac);
         if (ukf.status != UpdateStatus::kFused) {  // proposal (P3)
           ++report.failed_particles;
           continue;
         }
-        Vec<N> xi = Vec<N>::Zero();
-        for (int k = 0; k < N; ++k) xi(k) = rng_.normal();
+        const Vec<N> xi = draw_normal();
         const Vec<N> x_tilde = x_hat + fac.L_post * xi;                    // (P4)
-        const double log_q = -0.5 * xi.squaredNorm() -
-                             fac.L_post.diagonal().array().log().sum() -
-                             0.5 * N * std::log(2.0 * std::numbers::pi);   // ln q (W6, L̂⁻¹r = ξ)
-        const double log_prior = gaussian_log_density<N>(x_tilde - p.x, fac.L_prior);
         const double log_lik = gaussian_log_density<M>(z - h(x_tilde), L_R);
-        log_increment = log_lik + log_prior - log_q;                      // (P5)
+        if (params_.weighting == UpfWeighting::kLikelihood) {
+          log_increment = log_lik;                                        // (L5)
+          P_new_[i] = P_hat;                                              // (L6)
+        } else {
+          const double log_q = -0.5 * xi.squaredNorm() -
+                               fac.L_post.diagonal().array().log().sum() -
+                               0.5 * N * std::log(2.0 * std::numbers::pi);  // ln q (W6)
+          const double log_prior = gaussian_log_density<N>(x_tilde - p.x, fac.L_prior);
+          log_increment = log_lik + log_prior - log_q;                    // (P5)
+        }
         x_new_[i] = x_tilde;
         y_i = ukf.y;
         S_i = ukf.S;
@@ -291,53 +276,19 @@ class UnscentedParticleFilter {
         continue;
       }
       log_w_new_[i] = log_w_[i] + log_increment;
-      w_sum += w_[i];
-      y_sum += w_[i] * y_i;
-      yy_sum += w_[i] * y_i * y_i.transpose();
-      S_sum += w_[i] * S_i;
+      mom.add(w_[i], y_i, S_i);
     }
-    if (!(w_sum > 0.0)) {  // no survivor (or only survivors of underflowed weight)
-      rng_ = rng_before;
-      report.status = UpdateStatus::kNumericalFault;
-      return report;
-    }
-    const Vec<M> y = y_sum / w_sum;
-    Mat<M, M> S = S_sum / w_sum + yy_sum / w_sum - y * y.transpose();
-    symmetrize(S);
-    report.y = y;
-    report.S = S;
-    const Eigen::LDLT<Mat<M, M>> S_ldlt(S);
-    report.nis = y.dot(S_ldlt.solve(y));
-    if (S_ldlt.info() != Eigen::Success || !S_ldlt.isPositive() ||
-        !(S_ldlt.vectorD().array() > 0.0).all() || !std::isfinite(report.nis)) {
-      rng_ = rng_before;
-      report.status = UpdateStatus::kNumericalFault;
-      return report;
-    }
-    if (gate > 0.0 && report.nis > gate) {
-      rng_ = rng_before;
-      report.status = UpdateStatus::kRejectedGate;
-      return report;
-    }
-    // Commit (P6): survivors become points; the dropped keep their state with weight 0.
-    for (std::size_t i = 0; i < particles_.size(); ++i) {
-      if (log_w_new_[i] == kMinusInf) continue;
-      particles_[i].x = x_new_[i];
-      particles_[i].P.setZero();
-      particles_[i].point = true;
-    }
-    log_w_.swap(log_w_new_);
-    normalize_log_weights(log_w_, w_);                                    // (P8)
-    report.ess = effective_sample_size(w_);                               // (P8)
-    bool any_zero = false;
-    for (const double wi : w_) any_zero = any_zero || wi == 0.0;
-    if (any_zero || report.ess < params_.resample_threshold * static_cast<double>(w_.size())) {
-      resample();                                                         // (P9)
-      report.resampled = true;
-    }
-    report.status = UpdateStatus::kFused;
+    finish_update(mom, gate, rng_before, report);
     return report;
   }
+
+  /// Fuses z into every particle's UKF without a draw and without touching the weights (C1):
+  /// for a measurement the weights do not use (paper P1's magnetometer). The gate and the
+  /// refusals are update()'s; a point particle's UKF has nothing to correct.
+  template <class Meas>
+    requires UpfMeasurementModel<Meas, N>
+  UpfUpdateReport<Meas::kMeasDim> correct(const Meas& meas, const Vec<Meas::kMeasDim>& z,
+                                          double gate = 0.0);
 
   /// Moves every particle by −delta (P12). Non-finite delta → kRejectedInvalid, unchanged.
   StepStatus shift(const Vec<N>& delta) {
@@ -361,12 +312,15 @@ class UnscentedParticleFilter {
   Mat<N, N> covariance() const {
     const Vec<N> x_bar = mean();
     Mat<N, N> P_bar = Mat<N, N>::Zero();
+    double w_live = 0.0;
     for (std::size_t i = 0; i < particles_.size(); ++i) {
       if (!(w_[i] > 0.0)) continue;
       const Vec<N> d = particles_[i].x - x_bar;
       P_bar += w_[i] * d * d.transpose();
-      if (!particles_[i].point) P_bar += w_[i] * particles_[i].P;
+      w_live += w_[i];
+      if (!shared_ && !particles_[i].point) P_bar += w_[i] * particles_[i].P;
     }
+    if (shared_ && !point_common_) P_bar += w_live * P_common_;  // Σ w_i P for one P (P13)
     symmetrize(P_bar);
     return P_bar;
   }
@@ -382,7 +336,12 @@ class UnscentedParticleFilter {
   /// x_i of particle i, 0 <= i < N_p (contract).
   const Vec<N>& particle_state(int i) const { return particle(i).x; }
   /// P_i of particle i (zero for a point particle), 0 <= i < N_p (contract).
-  const Mat<N, N>& particle_covariance(int i) const { return particle(i).P; }
+  const Mat<N, N>& particle_covariance(int i) const {
+    const Particle& p = particle(i);
+    return shared_ ? P_common_ : p.P;
+  }
+  /// True while the particles share one covariance (P13..P16), false on the generic path.
+  bool shares_covariance() const { return shared_; }
   /// The sigma-point weights of every particle's UKF.
   const UnscentedWeights<N>& sigma_weights() const { return weights_; }
   /// The parameters given at construction.
@@ -391,8 +350,23 @@ class UnscentedParticleFilter {
  private:
   struct Particle {
     Vec<N> x;      ///< x_i, the state's units
-    Mat<N, N> P;   ///< P_i, the state's units² (0 for a point)
-    bool point;    ///< P_i = 0: a sample, not yet propagated
+    Mat<N, N> P;   ///< P_i, the state's units² (0 for a point); stale while shared_
+    bool point;    ///< P_i = 0: a sample, not yet propagated; stale while shared_
+  };
+
+  /// Prior-weighted sums of the survivors' innovations, for the filter's y and S.
+  template <int M>
+  struct Moments {
+    double w_sum = 0.0;  ///< prior weight of the particles that survive
+    Vec<M> y_sum = Vec<M>::Zero();
+    Mat<M, M> yy_sum = Mat<M, M>::Zero();
+    Mat<M, M> S_sum = Mat<M, M>::Zero();
+    void add(double w, const Vec<M>& y, const Mat<M, M>& S) {
+      w_sum += w;
+      y_sum += w * y;
+      yy_sum += w * y * y.transpose();
+      S_sum += w * S;
+    }
   };
 
   static constexpr double kMinusInf = -std::numeric_limits<double>::infinity();
@@ -422,6 +396,69 @@ class UnscentedParticleFilter {
   }
 
   bool dead(std::size_t i) const { return log_w_[i] == kMinusInf; }
+  bool point_of(std::size_t i) const { return shared_ ? point_common_ : particles_[i].point; }
+  const Mat<N, N>& prior_of(std::size_t i) const { return shared_ ? P_common_ : particles_[i].P; }
+
+  Vec<N> draw_normal() {
+    Vec<N> xi;
+    for (int k = 0; k < N; ++k) xi(k) = rng_.normal();
+    return xi;
+  }
+
+  /// Leaves the shared representation: every particle gets the common P (no value changes).
+  void materialise() {
+    if (!shared_) return;
+    for (Particle& p : particles_) {
+      p.P = P_common_;
+      p.point = point_common_;
+    }
+    shared_ = false;
+  }
+
+  /// Applies the drop marks a predict left in log_w_new_ (a survivor exists: cannot fail).
+  void drop_marked(int failed) {
+    if (failed == 0) return;
+    for (std::size_t i = 0; i < particles_.size(); ++i) {
+      if (!dead(i) && log_w_new_[i] == kMinusInf) log_w_[i] = kMinusInf;
+    }
+    normalize_log_weights(log_w_, w_);
+  }
+
+  // The shared path (P13..P16), defined in upf_shared.hpp.
+  template <class Process>
+  UpfPredictReport predict_shared(const Process& process, const typename Process::Input& u,
+                                  double dt_s, const Mat<N, N>& Q);
+  template <class Meas, int M>
+  void update_shared(const Meas& meas, const Vec<M>& z, const Mat<M, M>& R,
+                     const Mat<M, M>& L_R, double gate, UpfUpdateReport<M>& report);
+  template <class Meas, int M>
+  void correct_shared(const Meas& meas, const Vec<M>& z, const Mat<M, M>& R, double gate,
+                      UpfUpdateReport<M>& report);
+  template <int M>
+  bool shared_gain(const Mat<M, N>& H, const Mat<M, M>& R, Mat<M, M>& S, Mat<M, M>& L_S,
+                   Mat<N, M>& K, Mat<N, N>& L_post, Mat<N, N>& P_post) const;
+
+  /// The filter's y and S, NIS and gate from the survivors' moments; false (report says why)
+  /// when the update is refused (upf_update.hpp).
+  template <int M>
+  static bool judge(const Moments<M>& mom, double gate, UpfUpdateReport<M>& report);
+  /// Takes the update's log-weights, normalises them (P8), fills the ESS; fused.
+  template <int M>
+  void commit_weights(UpfUpdateReport<M>& report);
+  /// The end of every update: judge, commit (P6 or L6), P8, P9; refused → rng_ restored and
+  /// nothing changed. P_shared_post: the shared path's P̂ (L6), null otherwise.
+  template <int M>
+  void finish_update(const Moments<M>& mom, double gate, const Rng& rng_before,
+                     UpfUpdateReport<M>& report, const Mat<N, N>* P_shared_post = nullptr);
+  /// Systematic resampling (P9) after a commit.
+  void resample();
+
+  /// After a fused update every live particle is a point (a dropped one forces P9).
+  void set_common_point() {
+    uniform_ = true;
+    P_common_.setZero();
+    point_common_ = true;
+  }
 
   void set_uniform_weights() {
     const double n = static_cast<double>(particles_.size());
@@ -431,20 +468,6 @@ class UnscentedParticleFilter {
     }
   }
 
-  /// Systematic resampling (P9). Called after a commit, when every live particle is a point.
-  void resample() {
-    systematic_resample(w_, rng_, ancestors_);  // w_ normalised and valid: cannot fail
-    for (std::size_t j = 0; j < particles_.size(); ++j) {
-      x_new_[j] = particles_[ancestors_[j]].x;
-    }
-    for (std::size_t j = 0; j < particles_.size(); ++j) {
-      particles_[j].x = x_new_[j];
-      particles_[j].P.setZero();
-      particles_[j].point = true;
-    }
-    set_uniform_weights();
-  }
-
   UpfParams params_;
   UnscentedWeights<N> weights_;
   Rng rng_;
@@ -452,8 +475,19 @@ class UnscentedParticleFilter {
   std::vector<double> log_w_;      ///< normalised ln w_i
   std::vector<double> w_;          ///< normalised w_i
   std::vector<double> log_w_new_;  ///< scratch: the update's ln w_i, the predict's drop marks
-  std::vector<Vec<N>> x_new_;      ///< scratch: samples x̃_i, resampled states
+  std::vector<Vec<N>> x_new_;      ///< scratch: samples x̃_i, propagated and resampled states
+  std::vector<Mat<N, N>> P_new_;   ///< scratch: posteriors P̂_i (L6, C1), resampled P_i
   std::vector<std::size_t> ancestors_;  ///< scratch: systematic resampling's a_j
+  /// Every live particle has covariance P_common_ and point flag point_common_ (after reset
+  /// and after every fused update; a generic predict ends it).
+  bool uniform_ = true;
+  /// The per-particle P and point are stale; P_common_, point_common_ hold them (P13..P16).
+  bool shared_ = false;
+  Mat<N, N> P_common_ = Mat<N, N>::Zero();
+  bool point_common_ = false;
 };
 
 }  // namespace nav::estimator
+
+#include "nav/estimator/upf_shared.hpp"  // IWYU pragma: export
+#include "nav/estimator/upf_update.hpp"  // IWYU pragma: export
