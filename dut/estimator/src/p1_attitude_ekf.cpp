@@ -62,9 +62,8 @@ Mat3 P1AttitudeEkf::attitude_covariance_n() const {
 }
 
 UpdateStatus P1AttitudeEkf::update(const char* source, const Vec3& z, const Mat<3, kN>& H,
-                                   double std, double gate) {
+                                   const Mat3& R, double gate) {
   VecN dx = VecN::Zero();  // closed loop: δx = 0 before every update
-  const Mat3 R = std * std * Mat3::Identity();
   const UpdateReport<3> report = linear_update<kN, 3>(dx, P_, z, H, R, gate);    // (K3..K7)
   if (auto i = innovation_of(source, report)) {
     innovations_.push_back(*i);
@@ -87,13 +86,14 @@ UpdateStatus P1AttitudeEkf::update(const char* source, const Vec3& z, const Mat<
 }
 
 StepStatus P1AttitudeEkf::step(const ImuSample& sample,
-                               const std::optional<Vec3>& a_motion_n_mps2) {
+                               const std::optional<Vec3>& a_motion_n_mps2,
+                               const Mat3& P_motion) {
   innovations_.clear();
   last_mag_ = UpdateStatus::kRejectedInvalid;
   last_gravity_ = UpdateStatus::kRejectedInvalid;
   ++stats_.imu_samples;
   if (!is_valid(sample, params_.max_dt_s) ||
-      (a_motion_n_mps2 && !a_motion_n_mps2->allFinite())) {
+      (a_motion_n_mps2 && !a_motion_n_mps2->allFinite()) || !P_motion.allFinite()) {
     ++stats_.imu_rejected_invalid;
     return StepStatus::kRejectedInvalid;
   }
@@ -119,7 +119,8 @@ StepStatus P1AttitudeEkf::step(const ImuSample& sample,
   const Vec3& m_n = params_.mag_field_n_tesla;
   if (!sample.m_b_tesla.isZero(0.0) && !m_n.isZero(0.0)) {
     const Vec3 z = EM::mag_residual(dcm_from_quat(q_nb_), sample.m_b_tesla, m_n);  // (A5)
-    last_mag_ = update("mag", z, mag_jacobian(m_n), params_.mag_std_tesla,
+    const double s_m = params_.mag_std_tesla;
+    last_mag_ = update("mag", z, mag_jacobian(m_n), s_m * s_m * Mat3::Identity(),
                        params_.mag_gate_nis);                                    // (A5, A7)
     if (last_mag_ == UpdateStatus::kFused) {
       ++stats_.mag_fused;
@@ -133,8 +134,10 @@ StepStatus P1AttitudeEkf::step(const ImuSample& sample,
     const Mat3 R_nb = dcm_from_quat(q_nb_);
     const Vec3 f_hat = sample.f_b_mps2 - b_a_;
     const Vec3 z = EM::gravity_residual(R_nb, f_hat, *a_motion_n_mps2, g_n);    // (A6, E8)
-    last_gravity_ = update("gravity", z, gravity_jacobian(R_nb, f_hat),
-                           params_.gravity_std_mps2, params_.gravity_gate_nis);  // (A6, A7)
+    const double s_g = params_.gravity_std_mps2;
+    const Mat3 R_grav = s_g * s_g * Mat3::Identity() + P_motion;                // (A6)
+    last_gravity_ = update("gravity", z, gravity_jacobian(R_nb, f_hat), R_grav,
+                           params_.gravity_gate_nis);                           // (A6, A7)
     if (last_gravity_ == UpdateStatus::kFused) {
       ++stats_.gravity_fused;
     } else if (last_gravity_ == UpdateStatus::kRejectedGate) {

@@ -27,11 +27,12 @@ using testing::attitude_error_n;
 using testing::Normal;
 using testing::SensorErrors;
 using testing::Stadium;
+using testing::StadiumRun;
 using testing::Truth;
 
-constexpr double kDt = 0.01;       ///< IMU period [s]
-constexpr int kGpsEvery = 100;     ///< GPS at 1 Hz
-constexpr double kSpeed = 0.5;     ///< [m/s]
+constexpr double kDt = StadiumRun::kDt;
+constexpr int kGpsEvery = StadiumRun::kGpsEvery;
+constexpr double kSpeed = StadiumRun::kSpeed;
 
 /// Parameters matching the simulated sensors (the filter's model is the truth's).
 P1Params matched_params() {
@@ -43,59 +44,6 @@ P1Params matched_params() {
   return p;
 }
 
-/// One simulated run: the initial state error, the biases drawn from the filter's prior
-/// (so NEES is meaningful), white noise on every sensor, GPS except during an outage.
-class StadiumRun {
- public:
-  StadiumRun(std::uint64_t seed, const P1Params& params_in, bool noisy = true)
-      : stadium_(kSpeed), noise_(seed), params_(params_in) {
-    const Truth t0 = stadium_.at(0.0);
-    if (noisy) {
-      errors_.gyro_bias_b_radps = params_.initial_gyro_bias_std_radps * noise_.vec3();
-      errors_.accel_bias_b_mps2 = params_.initial_accel_bias_std_mps2 * noise_.vec3();
-      errors_.gyro_noise_radps_rthz = params_.gyro_noise_radps_rthz;
-      errors_.accel_noise_mps2_rthz = params_.accel_noise_mps2_rthz;
-      errors_.mag_std_tesla = params_.mag_std_tesla;
-      const Vec3 rho0(params_.initial_tilt_std_rad * noise_(),
-                      params_.initial_tilt_std_rad * noise_(),
-                      params_.initial_heading_std_rad * noise_());
-      params_.initial_p_n_m = t0.p_n - params_.initial_position_std_m * noise_.vec3();
-      params_.initial_v_n_mps = t0.v_n - params_.initial_velocity_std_mps * noise_.vec3();
-      params_.initial_q_nb = (quat_exp(-rho0) * t0.q_nb()).normalized();  // q_true = Exp(ρ0) q̂
-    } else {
-      params_.initial_p_n_m = t0.p_n;
-      params_.initial_v_n_mps = t0.v_n;
-      params_.initial_q_nb = t0.q_nb();
-    }
-  }
-
-  const P1Params& params() const { return params_; }
-  const SensorErrors& errors() const { return errors_; }
-  double time() const { return k_ * kDt; }
-  Truth truth() const { return stadium_.at(time()); }
-
-  /// One IMU sample to nav, then a GPS fix when one is due and gps_on.
-  void step(P1Navigator& nav, bool gps_on = true) {
-    const double t0 = k_ * kDt;
-    const double t1 = (k_ + 1) * kDt;
-    const Truth x1 = stadium_.at(t1);
-    const ImuSample s = testing::noisy_imu(stadium_.perfect_imu(t0, t1, params_.gravity_mps2),
-                                           x1.q_nb(), params_.mag_field_n_tesla, errors_, noise_);
-    ++k_;
-    nav.on_imu(s);
-    if (k_ % kGpsEvery == 0) {
-      const Vec3 fix = x1.p_n + params_.gps_position_std_m * noise_.vec3();
-      if (gps_on) nav.on_gps_position(fix);
-    }
-  }
-
- private:
-  Stadium stadium_;
-  Normal noise_;
-  P1Params params_;
-  SensorErrors errors_;
-  int k_ = 0;  ///< samples given so far
-};
 
 bool symmetric_pd(const EM::MatN& P) {
   return P.allFinite() && (P - P.transpose()).isZero(0.0) &&

@@ -6,14 +6,18 @@
 // semicircle of radius 2 m (centre (3, 2)), 6 m straight South, a right-hand semicircle
 // (centre (−3, 2)), 3 m North back to the start; level (roll = pitch = 0), depth 0, constant
 // speed. One lap is 12 + 4π ≈ 24.57 m. Yaw is unwrapped (0, π, 2π, ... per segment).
+// StadiumRun drives navigators along it at 100 Hz with 1 Hz GPS fixes.
 #pragma once
 
 #include <cmath>
+#include <algorithm>
 #include <cstdint>
+#include <initializer_list>
 #include <numbers>
 #include <random>
 
 #include "nav/common/frames.hpp"
+#include "nav/estimator/complementary_attitude.hpp"
 #include "nav/estimator/p1_types.hpp"
 
 namespace nav::estimator::testing {
@@ -158,6 +162,95 @@ inline Vec3 quat_log(const Quat& q_in) {
 /// ρ with q_true = Exp(ρ) ⊗ q_est: the NED attitude error [rad].
 inline Vec3 attitude_error_n(const Quat& q_true, const Quat& q_est) {
   return quat_log(q_true * q_est.conjugate());
+}
+
+/// One simulated run of the stadium at 0.5 m/s, 100 Hz IMU, 1 Hz GPS: the initial state error
+/// and the biases drawn from the filter's prior (so NEES is meaningful), white noise on every
+/// sensor, GPS except during an outage (the fix is drawn either way, so the data do not
+/// depend on the outage). noisy = false: perfect data and a perfect start.
+class StadiumRun {
+ public:
+  static constexpr double kDt = 0.01;    ///< IMU period [s]
+  static constexpr int kGpsEvery = 100;  ///< GPS at 1 Hz
+  static constexpr double kSpeed = 0.5;  ///< [m/s]
+
+  StadiumRun(std::uint64_t seed, const P1Params& params_in, bool noisy = true)
+      : stadium_(kSpeed), noise_(seed), params_(params_in) {
+    const Truth t0 = stadium_.at(0.0);
+    if (!noisy) {
+      params_.initial_p_n_m = t0.p_n;
+      params_.initial_v_n_mps = t0.v_n;
+      params_.initial_q_nb = t0.q_nb();
+      return;
+    }
+    errors_.gyro_bias_b_radps = params_.initial_gyro_bias_std_radps * noise_.vec3();
+    errors_.accel_bias_b_mps2 = params_.initial_accel_bias_std_mps2 * noise_.vec3();
+    errors_.gyro_noise_radps_rthz = params_.gyro_noise_radps_rthz;
+    errors_.accel_noise_mps2_rthz = params_.accel_noise_mps2_rthz;
+    errors_.mag_std_tesla = params_.mag_std_tesla;
+    const Vec3 rho0(params_.initial_tilt_std_rad * noise_(),
+                    params_.initial_tilt_std_rad * noise_(),
+                    params_.initial_heading_std_rad * noise_());
+    params_.initial_p_n_m = t0.p_n - params_.initial_position_std_m * noise_.vec3();
+    params_.initial_v_n_mps = t0.v_n - params_.initial_velocity_std_mps * noise_.vec3();
+    params_.initial_q_nb = (quat_exp(-rho0) * t0.q_nb()).normalized();  // q_true = Exp(ρ0) q̂
+  }
+
+  const P1Params& params() const { return params_; }
+  const SensorErrors& errors() const { return errors_; }
+  double time() const { return k_ * kDt; }
+  Truth truth() const { return stadium_.at(time()); }
+
+  /// One IMU sample to every navigator, then the GPS fix when one is due and gps_on.
+  void step(std::initializer_list<P1Navigator*> navs, bool gps_on = true) {
+    const double t0 = k_ * kDt;
+    const double t1 = (k_ + 1) * kDt;
+    const Truth x1 = stadium_.at(t1);
+    const ImuSample s = noisy_imu(stadium_.perfect_imu(t0, t1, params_.gravity_mps2), x1.q_nb(),
+                                  params_.mag_field_n_tesla, errors_, noise_);
+    ++k_;
+    const bool fix_due = k_ % kGpsEvery == 0;
+    Vec3 fix = Vec3::Zero();
+    if (fix_due) fix = x1.p_n + params_.gps_position_std_m * noise_.vec3();
+    for (P1Navigator* nav : navs) {
+      nav->on_imu(s);
+      if (fix_due && gps_on) nav->on_gps_position(fix);
+    }
+  }
+  void step(P1Navigator& nav, bool gps_on = true) { step({&nav}, gps_on); }
+
+ private:
+  Stadium stadium_;
+  Normal noise_;
+  P1Params params_;
+  SensorErrors errors_;
+  int k_ = 0;  ///< samples given so far
+};
+
+/// Position and attitude errors after the first 30 s, of one navigator.
+struct Errors {
+  double rms_per_axis = 0.0;  ///< [m]
+  double worst_p = 0.0;       ///< [m]
+  double worst_att = 0.0;     ///< [rad]
+};
+
+inline Errors run_stadium(StadiumRun& run, P1Navigator& nav, double until_s) {
+  double sum_sq = 0.0;
+  int n = 0;
+  Errors e;
+  while (run.time() < until_s) {
+    run.step(nav);
+    if (run.time() < 30.0) continue;
+    const Truth x = run.truth();
+    const P1Solution s = nav.solution();
+    const double ep = (x.p_n - s.p_n).norm();
+    sum_sq += ep * ep;
+    ++n;
+    e.worst_p = std::max(e.worst_p, ep);
+    e.worst_att = std::max(e.worst_att, attitude_error_n(x.q_nb(), s.q_nb).norm());
+  }
+  e.rms_per_axis = std::sqrt(sum_sq / (3.0 * n));
+  return e;
 }
 
 }  // namespace nav::estimator::testing

@@ -26,7 +26,8 @@
 //       z = R̂_nb m̃_b − mⁿ,  H = [[mⁿ]×, 0, 0],  R = σ_m² I                   (E6, E7)
 //   A6  gravity, when a motion acceleration â_motion is given: f̂ = f̃ − b̂_a,
 //       ĝⁿ = −(R̂_nb f̂ − â_motion),  z = δgⁿ = ĝⁿ − g_n,
-//       H = [−[R̂_nb f̂]×, −R̂_nb, 0],  R = σ_grav² I                          (E8, E9)
+//       H = [−[R̂_nb f̂]×, −R̂_nb, 0],  R = σ_grav² I + P_motion               (E8, E9)
+//       (P_motion: the covariance of â_motion's error when its source states one, else 0)
 //   A7  after each fused update: q̂_nb ← Exp(ρ̂) ⊗ q̂_nb, b̂_a += δb̂_a, b̂_g += δb̂_g, δx̂ ← 0,
 //       P ← G P Gᵀ with G = diag(I + ½[ρ̂]×, I, I)                          (E10, E11)
 // The motion acceleration (paper trap: the paper never defines it). â_motion is the vehicle's
@@ -35,8 +36,9 @@
 // vehicle assumed unaccelerated (then the centripetal and surge accelerations become tilt
 // errors of about |a|/g rad, and σ_grav must cover |a|). It must not be the INS's own
 // R̂ f̂ + g_n, nor anything integrated from it alone: then z ≡ 0 and the update is blind.
-// Its error is measurement noise of A6 (E8: z = δa + (â_motion − a_n)); σ_grav covers it and
-// the accelerometer white noise at the sample rate (σ_a/√dt).
+// Its error is measurement noise of A6 (E8: z = δa + (â_motion − a_n)): P_motion where the
+// source knows it, and σ_grav for the rest and the accelerometer white noise at the sample
+// rate (σ_a/√dt).
 // Output to the position part:
 //   A8  â_ins = R̂_nb f̂ + g_n with the state after this step's updates, NED [m/s²] — the
 //       acceleration the position part integrates; δâ = â_ins(after) − â_ins(before the
@@ -83,8 +85,10 @@ class P1AttitudeEkf {
   explicit P1AttitudeEkf(const P1Params& params);
 
   /// One step (A1..A8) with the sample and, when known, the motion acceleration â_motion,
-  /// NED [m/s²] (nullopt: no gravity update). kRejectedInvalid: state untouched.
-  StepStatus step(const ImuSample& sample, const std::optional<Vec3>& a_motion_n_mps2);
+  /// NED [m/s²] (nullopt: no gravity update) with the covariance of its error P_motion
+  /// [m²/s⁴] (A6). kRejectedInvalid: state untouched.
+  StepStatus step(const ImuSample& sample, const std::optional<Vec3>& a_motion_n_mps2,
+                  const Mat3& P_motion = Mat3::Zero());
 
   const Quat& q_nb() const { return q_nb_; }           ///< q̂_nb, body→NED
   const Vec3& accel_bias_b() const { return b_a_; }    ///< b̂_a, body [m/s²]
@@ -111,7 +115,7 @@ class P1AttitudeEkf {
   static Mat<3, kN> gravity_jacobian(const Mat3& R_nb, const Vec3& f_hat_b_mps2);
 
  private:
-  UpdateStatus update(const char* source, const Vec3& z, const Mat<3, kN>& H, double std,
+  UpdateStatus update(const char* source, const Vec3& z, const Mat<3, kN>& H, const Mat3& R,
                       double gate);
 
   P1Params params_;

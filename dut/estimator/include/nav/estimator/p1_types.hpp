@@ -8,9 +8,9 @@
 //   |-------|--------------------------------------------------------|-------------------|
 //   | ins   | strapdown only, from the configured initial state      | p1_ins.hpp        |
 //   | ekf15 | strapdown + 15-state error EKF, GPS δp and mag δmⁿ      | p1_ekf15.hpp      |
-//   | upf15 | strapdown + 15-state unscented particle filter         | (later)           |
-//   | mfins | 9-state attitude EKF (p1_attitude_ekf.hpp) + 9-state    | (later)           |
-//   |       | position UPF [δp, δv, δa]                               |                   |
+//   | upf15 | strapdown + 15-state unscented particle filter         | p1_upf15.hpp      |
+//   | mfins | 9-state attitude EKF (p1_attitude_ekf.hpp) + 9-state    | p1_mfins.hpp      |
+//   |       | position UPF [δp, δv, δa] (p1_position_upf.hpp)         |                   |
 //
 // Conventions (the whole project): n = local NED, flat and inertial (no Earth or transport
 // rate), constant gravity g_n = (0, 0, +g); b = FRD; q_nb Hamilton, v_n = q_nb * v_b; the
