@@ -31,7 +31,7 @@ struct NavdParams {
 enum class NavigatorKind {
   kGpsIns,  ///< "gps-ins": AHRS + GPS (+ depth) Kalman filter anchored at the first GPS fix
   kDvl,     ///< "dvl": DVL dead reckoning from the configured origin (paper P0)
-  kP1,      ///< "ins", "ekf15": a paper P1 navigator (p1_driver.hpp), NavdConfig::p1_navigator
+  kP1,      ///< "ins", "ekf15", "upf15", "mfins": a paper P1 navigator (p1_driver.hpp), NavdConfig::p1_navigator
 };
 
 /// Everything a config file sets.
@@ -41,7 +41,7 @@ struct NavdConfig {
   NavigatorKind navigator = NavigatorKind::kGpsIns;  ///< key `navigator`
   estimator::AttitudeFilterKind attitude =
       estimator::AttitudeFilterKind::kMahony;        ///< key `attitude_filter`
-  std::string p1_navigator;   ///< with kP1: the P1 navigator's name ("ins", "ekf15")
+  std::string p1_navigator;   ///< with kP1: the P1 navigator's name ("ins", "ekf15", "upf15", "mfins")
   estimator::P1Params p1;     ///< the p1_* keys (config_p1.hpp); seed from --seed
 };
 

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// The keys of navd's config file that set paper P1's navigators (navigator: ins, ekf15):
+// The keys of navd's config file that set paper P1's navigators (navigator: ins, ekf15, upf15, mfins):
 // every P1Params field by name with its unit (p1_types.hpp), the initial attitude as ZYX Euler
 // angles. The seed of the particle filters comes from the command line (--seed), not here.
 #pragma once

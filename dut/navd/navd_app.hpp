@@ -218,7 +218,7 @@ class NavdApp {
   /// Exactly one of the two is set, by the config's `navigator`.
   std::optional<estimator::Navigator> gps_nav_;
   std::optional<estimator::DvlNavigator> dvl_nav_;
-  std::optional<estimator::P1Driver> p1_nav_;  ///< navigator: ins, ekf15 (paper P1)
+  std::optional<estimator::P1Driver> p1_nav_;  ///< navigator: ins, ekf15, upf15, mfins (paper P1)
   /// The estimate of whichever navigator runs.
   estimator::NavSolution nav_solution() const;
   /// Status of the last attitude step of whichever navigator runs.

@@ -8,6 +8,8 @@
 #include "nav/common/ensure.hpp"
 #include "nav/estimator/p1_ekf15.hpp"
 #include "nav/estimator/p1_ins.hpp"
+#include "nav/estimator/p1_mfins.hpp"
+#include "nav/estimator/p1_upf15.hpp"
 
 namespace nav::estimator {
 
@@ -17,6 +19,8 @@ Result<std::unique_ptr<P1Navigator>> make_p1_navigator(std::string_view name,
   std::unique_ptr<P1Navigator> nav;
   if (name == "ins") nav = std::make_unique<P1Ins>(params);
   if (name == "ekf15") nav = std::make_unique<P1Ekf15>(params);
+  if (name == "upf15") nav = std::make_unique<P1Upf15>(params);
+  if (name == "mfins") nav = std::make_unique<P1Mfins>(params);
   if (!nav) {
     return fail(ErrorCode::kInvalidArgument, "unknown P1 navigator '" + std::string(name) +
                                                  "' (expected " + p1_navigator_names() + ")");
@@ -24,7 +28,7 @@ Result<std::unique_ptr<P1Navigator>> make_p1_navigator(std::string_view name,
   return nav;
 }
 
-std::string p1_navigator_names() { return "ins, ekf15"; }
+std::string p1_navigator_names() { return "ins, ekf15, upf15, mfins"; }
 
 P1Driver::P1Driver(std::unique_ptr<P1Navigator> navigator, const geodesy::Geodetic& origin,
                    double max_dt_s)

@@ -111,7 +111,7 @@ TEST(P1Driver, KeepsAtMostTheNewestQueuedFixes) {
 }
 
 TEST(P1Driver, FactoryKnowsThePaperNavigatorsAndRefusesOthers) {
-  for (const char* name : {"ins", "ekf15"}) {
+  for (const char* name : {"ins", "ekf15", "upf15", "mfins"}) {
     const auto nav = make_p1_navigator(name, P1Params{});
     ASSERT_TRUE(nav) << name;
     EXPECT_EQ((*nav)->name(), name);

@@ -57,7 +57,7 @@ TEST(NavdConfig, UnknownChoicesAreLocatedAndListTheValidNames) {
   const auto n = load_config(write_config("navigator: usbl\n"));
   ASSERT_FALSE(n.has_value());
   EXPECT_NE(n.error().detail.find(":1:12: unknown navigator 'usbl' (expected gps-ins, dvl or a "
-                                  "paper P1 navigator: ins, ekf15"),
+                                  "paper P1 navigator: ins, ekf15, upf15, mfins"),
             std::string::npos)
       << n.error().detail;
   const auto m = load_config(write_config("attitude_filter: [ekf]\n"));

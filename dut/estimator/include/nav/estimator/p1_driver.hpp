@@ -28,7 +28,7 @@
 
 namespace nav::estimator {
 
-/// The P1 navigator named `name` ("ins", "ekf15", ...); an error names the known ones.
+/// The P1 navigator named `name` ("ins", "ekf15", "upf15", "mfins"); an error names the known ones.
 Result<std::unique_ptr<P1Navigator>> make_p1_navigator(std::string_view name,
                                                        const P1Params& params);
 
