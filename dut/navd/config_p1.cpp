@@ -77,7 +77,7 @@ const std::array<P1Field, 29> kFields = {{
     {"p1_gravity_gate_nis", "mfins: chi-square gate on the gravity NIS (3 dof), 0 = off",
      NAV_P1_SCALAR(gravity_gate_nis)},
     {"p1_max_dt_s", "an IMU interval above this is refused [s]", NAV_P1_SCALAR(max_dt_s)},
-    {"p1_particle_count", "upf15, mfins: particles, a whole number >= 1",
+    {"p1_particle_count", "upf15, mfins: particles, a whole number in [1, 100000]",
      [](const P1Params& p) { return static_cast<double>(p.particle_count); },
      [](P1Params& p, double v) {
        // Not a whole number in range: a value validate() refuses, naming the field.

@@ -81,9 +81,10 @@ Result<void> validate(const P1Params& p) {
     return fail(ErrorCode::kInvalidArgument, "resample_ess_fraction must be in (0, 1] (got " +
                                                  format_value(p.resample_ess_fraction) + ")");
   }
-  if (p.particle_count < 1) {
+  if (p.particle_count < 1 || p.particle_count > P1Params::kMaxParticles) {
     return fail(ErrorCode::kInvalidArgument,
-                "particle_count must be >= 1 (got " + std::to_string(p.particle_count) + ")");
+                "particle_count must be in [1, " + std::to_string(P1Params::kMaxParticles) +
+                    "] (got " + std::to_string(p.particle_count) + ")");
   }
   return {};
 }

@@ -301,6 +301,12 @@ TEST(P1Params, DefaultsAreValidAndBadFieldsAreNamed) {
   r = validate(p);
   ASSERT_FALSE(r.has_value());
   EXPECT_NE(r.error().detail.find("particle_count"), std::string::npos);
+  p.particle_count = P1Params::kMaxParticles + 1;  // 0.4 GB and more: refused, not allocated
+  r = validate(p);
+  ASSERT_FALSE(r.has_value());
+  EXPECT_NE(r.error().detail.find("particle_count must be in [1, 100000]"), std::string::npos);
+  p.particle_count = P1Params::kMaxParticles;
+  EXPECT_TRUE(validate(p).has_value());
 }
 
 }  // namespace

@@ -83,7 +83,10 @@ struct P1Params {
   double max_dt_s = 1.0;          ///< an IMU interval above this is refused as invalid [s]
 
   // --- particle filters (upf15, mfins) ---
-  int particle_count = 50;               ///< particles n, ≥ 1 [-]
+  int particle_count = 50;               ///< particles n, 1 .. kMaxParticles [-]
+  /// Most particles validate() allows: 100 000 take about 0.4 GB (a state and two covariances
+  /// each, 15 states) and tens of ms per IMU step; the paper's most is 250.
+  static constexpr int kMaxParticles = 100000;
   std::uint64_t seed = 1;                ///< seed of the filter's own RNG [-]
   double resample_ess_fraction = 0.5;    ///< resample when ESS < this × n, (0, 1] [-]
 
