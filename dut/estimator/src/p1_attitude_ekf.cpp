@@ -12,9 +12,6 @@ namespace {
 using EM = P1ErrorModel;
 using VecN = P1AttitudeEkf::VecN;
 using MatN = P1AttitudeEkf::MatN;
-constexpr StateSlice kRho = P1AttitudeEkf::kRho;
-constexpr StateSlice kDba = P1AttitudeEkf::kDba;
-constexpr StateSlice kDbg = P1AttitudeEkf::kDbg;
 }  // namespace
 
 P1AttitudeEkf::P1AttitudeEkf(const P1Params& params) : params_(params) {
