@@ -340,7 +340,7 @@ void AidingInput::on_message(const ebimu::Line& m) {
 }
 
 void AidingInput::on_message(const evo::Notification& m) {
-  count(std::holds_alternative<evo::UsblLong>(m.fix) ? "USBLLONG" : "USBLANGLES");
+  count(std::string(evo::header_of(m.fix)));
   last_ = m;
 }
 

@@ -1,10 +1,12 @@
 // SPDX-License-Identifier: MIT
 // EvoLogics USBLLONG / USBLANGLES notifications (protocols.md 6c; field order and types from
-// EvoLogics/evins role_at_impl.erl and EvoLogics/dmac parser.h).
+// EvoLogics/evins role_at_impl.erl and EvoLogics/dmac parser.h), and navbench's NVBRELATT
+// extension in the same form.
 //
 //   USBLLONG,cur_t,meas_t,addr,X,Y,Z,E,N,U,roll,pitch,yaw,prop_time_us,rssi,integrity,accuracy
 //   USBLANGLES,cur_t,meas_t,addr,lbearing,lelevation,bearing,elevation,roll,pitch,yaw,rssi,
 //              integrity,accuracy
+//   NVBRELATT,cur_t,meas_t,addr,rel_heading,rel_pitch
 //
 // Wrapped as "+++AT:<len>:<payload>\r\n" in data mode or sent bare in command mode (the bare
 // form is PARTIAL in protocols.md: DMAC parses both). No checksum exists; the data-mode length
@@ -24,6 +26,7 @@ namespace {
 
 constexpr std::string_view kLongHeader = "USBLLONG";
 constexpr std::string_view kAnglesHeader = "USBLANGLES";
+constexpr std::string_view kRelativeHeader = "NVBRELATT";
 constexpr std::size_t kMaxLengthDigits = 4;  ///< digits of <len> in "+++AT:<len>:"
 
 /// One value of a notification: its name, member and printed decimals (ints: none).
@@ -67,6 +70,14 @@ const Slot<UsblAngles> kAnglesSlots[] = {
     {"rssi", &UsblAngles::rssi_db, 0},
     {"integrity", &UsblAngles::integrity, 0},
     {"accuracy", &UsblAngles::accuracy_m, 4},
+};
+
+const Slot<RelativeAttitude> kRelativeSlots[] = {
+    {"current time", &RelativeAttitude::current_time_s, 6},
+    {"measurement time", &RelativeAttitude::measurement_time_s, 6},
+    {"remote address", &RelativeAttitude::remote_address, 0},
+    {"relative heading", &RelativeAttitude::relative_heading_rad, 4},
+    {"relative pitch", &RelativeAttitude::relative_pitch_rad, 4},
 };
 
 template <typename T, std::size_t N>
@@ -217,9 +228,18 @@ ParseResult<Notification> parse_command_mode(ByteSpan buffer) {
 
 }  // namespace
 
+std::string_view header_of(const UsblFix& fix) {
+  if (std::holds_alternative<UsblLong>(fix)) return kLongHeader;
+  if (std::holds_alternative<UsblAngles>(fix)) return kAnglesHeader;
+  return kRelativeHeader;
+}
+
 std::string to_payload(const UsblFix& fix) {
   if (const auto* l = std::get_if<UsblLong>(&fix)) return format(kLongHeader, *l, kLongSlots);
-  return format(kAnglesHeader, std::get<UsblAngles>(fix), kAnglesSlots);
+  if (const auto* a = std::get_if<UsblAngles>(&fix)) {
+    return format(kAnglesHeader, *a, kAnglesSlots);
+  }
+  return format(kRelativeHeader, std::get<RelativeAttitude>(fix), kRelativeSlots);
 }
 
 Result<UsblFix> decode_payload(std::string_view payload) {
@@ -235,6 +255,7 @@ Result<UsblFix> decode_payload(std::string_view payload) {
   const std::vector<std::string_view> values(fields.begin() + 1, fields.end());
   if (header == kLongHeader) return decode(header, values, kLongSlots);
   if (header == kAnglesHeader) return decode(header, values, kAnglesSlots);
+  if (header == kRelativeHeader) return decode(header, values, kRelativeSlots);
   return fail(ErrorCode::kParse,
               "unsupported notification '" + std::string(header.substr(0, 32)) + "'");
 }

@@ -155,6 +155,14 @@ struct UsblJson {
                 {"integrity", a.integrity},
                 {"accuracy_m", a.accuracy_m}};
   }
+  json operator()(const protocols::evologics::RelativeAttitude& r) const {
+    return json{{"type", "nvbrelatt"},
+                {"current_time_s", r.current_time_s},
+                {"measurement_time_s", r.measurement_time_s},
+                {"remote_address", r.remote_address},
+                {"relative_heading_rad", r.relative_heading_rad},
+                {"relative_pitch_rad", r.relative_pitch_rad}};
+  }
 };
 
 }  // namespace

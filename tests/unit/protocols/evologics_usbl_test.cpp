@@ -196,6 +196,29 @@ TEST(EvologicsUsbl, RoundTripOfQuantisedFixes) {
   }
 }
 
+TEST(EvologicsUsbl, RelativeAttitudeExtension) {
+  // navbench's NVBRELATT (an iUSBL's relative heading and pitch of the same ping).
+  RelativeAttitude a;
+  a.current_time_s = 12.6;
+  a.measurement_time_s = 12.433;
+  a.remote_address = 3;
+  a.relative_heading_rad = -3.1;
+  a.relative_pitch_rad = 0.0523;
+  const std::string payload = "NVBRELATT,12.600000,12.433000,3,-3.1000,0.0523";
+  EXPECT_EQ(to_payload(a), payload);
+  EXPECT_EQ(header_of(UsblFix{a}), "NVBRELATT");
+  const auto r = parse_text("+++AT:" + std::to_string(payload.size()) + ":" + payload + "\r\n");
+  ASSERT_EQ(r.status, ParseStatus::kComplete) << r.error;
+  const auto* back = std::get_if<RelativeAttitude>(&r.message->fix);
+  ASSERT_NE(back, nullptr);
+  EXPECT_EQ(back->remote_address, 3);
+  EXPECT_DOUBLE_EQ(back->relative_heading_rad, -3.1);
+  EXPECT_DOUBLE_EQ(back->measurement_time_s, 12.433);
+  // Five values or nothing.
+  EXPECT_FALSE(decode_payload("NVBRELATT,12.6,12.433,3,-3.1").has_value());
+  EXPECT_FALSE(decode_payload("NVBRELATT,12.6,12.433,3,x,0.05").has_value());
+}
+
 TEST(EvologicsUsbl, RandomBytesKeepTheTriStateContract) {
   // '+' cuts a command-mode line short; a noise "+++AT:<len>:" that swallows the frame is
   // possible but rare, so a couple of misses are allowed.

@@ -60,8 +60,24 @@ struct UsblAngles {
   double accuracy_m = 0.0;            ///< accuracy estimate [m]; -1 = invalid
 };
 
-/// Either notification.
-using UsblFix = std::variant<UsblLong, UsblAngles>;
+/// NVBRELATT, navbench's extension (not an EvoLogics notification): the remote vehicle's
+/// heading and pitch relative to the receiving one, as an inverted USBL on a vehicle reports
+/// them alongside its USBLLONG of the same ping (paper P2's heading and pitch observations;
+/// docs/wire-formats.md, "iUSBL"). Same framing and time fields as the others:
+///   NVBRELATT,<current_time>,<measurement_time>,<remote_addr>,<rel_heading>,<rel_pitch>
+struct RelativeAttitude {
+  double current_time_s = 0.0;      ///< modem time when the line was sent [s]
+  double measurement_time_s = 0.0;  ///< modem time of the measurement [s]
+  int remote_address = 0;           ///< acoustic address of the remote modem
+  double relative_heading_rad = 0.0;  ///< ψ_remote − ψ_own, wrapped to (−π, π] [rad]
+  double relative_pitch_rad = 0.0;    ///< θ_remote − θ_own [rad]
+};
+
+/// Any notification.
+using UsblFix = std::variant<UsblLong, UsblAngles, RelativeAttitude>;
+
+/// "USBLLONG", "USBLANGLES" or "NVBRELATT".
+std::string_view header_of(const UsblFix& fix);
 
 /// A notification as received: the fix and how it was wrapped.
 struct Notification {
@@ -83,7 +99,7 @@ std::string encode(const Notification& n);
 /// Parses one notification at the start of the buffer. Bytes that cannot start a
 /// notification are skipped up to the next '+' or upper-case letter; a data-mode frame whose
 /// length or trailer is wrong is skipped through the next LF; a line or frame whose payload is
-/// not USBLLONG/USBLANGLES is malformed as a whole. A '+' inside a command-mode line cuts it
+/// not USBLLONG/USBLANGLES/NVBRELATT is malformed as a whole. A '+' inside a command-mode line cuts it
 /// short (a data-mode frame starts there).
 ParseResult<Notification> parse(ByteSpan buffer);
 
