@@ -75,6 +75,22 @@ struct DeviceKind {
   std::vector<emulators::WireMessage> (*stream)(const DeviceSpec& d,
                                                 const emulators::Truth& truth,
                                                 Duration duration, std::uint64_t seed) = nullptr;
+  /// kStream, a device observing another vehicle (an iUSBL): its messages over
+  /// [0, duration) from its own (mounted) truth, its vehicle's body truth and the observed
+  /// vehicle's; used instead of `stream`.
+  std::vector<emulators::WireMessage> (*observer_stream)(const DeviceSpec& d,
+                                                         const emulators::Truth& device,
+                                                         const emulators::Truth& body,
+                                                         const emulators::Truth& observed,
+                                                         Duration duration,
+                                                         std::uint64_t seed) = nullptr;
+  /// A device observing another vehicle: finds it among the scenario's vehicles (`vehicles`,
+  /// primary first; `own` is the device's vehicle) and keeps its index, or fails at the
+  /// device's key naming it. Called once every vehicle is read.
+  void (*resolve_observed)(DeviceSpec& d, const std::vector<std::string>& vehicles,
+                           std::size_t own) = nullptr;
+  /// The index (in the order above) of the vehicle a resolved observing device observes.
+  std::size_t (*observed_vehicle)(const DeviceSpec& d) = nullptr;
   /// kCan: its frames over [0, duration).
   std::vector<emulators::CanWireFrame> (*frames)(const DeviceSpec& d,
                                                  const emulators::Truth& truth,
@@ -123,6 +139,7 @@ const DeviceKind& gps_kind();
 const DeviceKind& dvl_kind();
 const DeviceKind& ebimu_kind();
 const DeviceKind& usbl_kind();
+const DeviceKind& iusbl_kind();
 const DeviceKind& keller_kind();
 const DeviceKind& acoustic_modem_kind();
 const DeviceKind& nmea2000_kind();

@@ -14,6 +14,7 @@ const std::vector<const DeviceKind*>& device_kinds() {
       &dvl_kind(),
       &ebimu_kind(),
       &usbl_kind(),
+      &iusbl_kind(),
       &keller_kind(),
       &acoustic_modem_kind(),
       &nmea2000_kind(),

@@ -81,10 +81,10 @@ void generate_can(const Scenario& sc, const std::vector<RunDevice>& devices,
 
 std::vector<RunDevice> run_devices(const Scenario& sc) {
   std::vector<RunDevice> out;
-  for (const auto& d : sc.devices) out.push_back({d, d.name, 0, nullptr});
+  for (const auto& d : sc.devices) out.push_back({d, d.name, 0, nullptr, nullptr, nullptr});
   for (std::uint32_t p = 0; p < sc.peers.size(); ++p) {
     for (const auto& d : sc.peers[p].devices) {
-      RunDevice rd{d, d.name, p + 1, nullptr};
+      RunDevice rd{d, d.name, p + 1, nullptr, nullptr, nullptr};
       rd.spec.name = sc.peers[p].vehicle_name + "." + d.name;
       out.push_back(std::move(rd));
     }
@@ -98,6 +98,10 @@ void mount_devices(std::vector<RunDevice>& devices, const VehicleTruths& truths)
     rd.truth = rd.spec.mount.is_identity()
                    ? vehicle
                    : std::make_shared<const emulators::MountedTruth>(vehicle, rd.spec.mount);
+    if (const auto observed = device_kind(rd.spec).observed_vehicle) {
+      rd.body = vehicle;
+      rd.observed = truths.at(observed(rd.spec));
+    }
   }
 }
 
@@ -108,9 +112,12 @@ DeviceStreams generate_device_streams(const Scenario& sc, const std::vector<RunD
     // Only a device with a stream of its own: a polled device's faults act on its answers
     // (its emulator applies them), a modem and a CAN device carry no stream.
     const DeviceKind& kind = device_kind(dev);
-    auto stream = kind.stream ? kind.stream(dev, *rd.truth, sc.duration,
-                                            emulators::device_seed(sc.seed, dev.name))
-                              : std::vector<emulators::WireMessage>{};
+    const auto seed = emulators::device_seed(sc.seed, dev.name);
+    auto stream = kind.observer_stream
+                      ? kind.observer_stream(dev, *rd.truth, *rd.body, *rd.observed, sc.duration,
+                                             seed)
+                  : kind.stream ? kind.stream(dev, *rd.truth, sc.duration, seed)
+                                : std::vector<emulators::WireMessage>{};
     out.stream_faults.emplace_back();
     if (!dev.faults.empty() && kind.link == DeviceKind::Link::kStream) {
       stream = emulators::apply_faults(std::move(stream), dev.faults,

@@ -28,6 +28,10 @@ struct RunDevice {
   std::uint32_t vehicle = 0; ///< 0 = primary, 1 + i = peers[i]
   /// What it measures: its vehicle's truth, moved to its mount (mount_devices()).
   std::shared_ptr<const emulators::Truth> truth;
+  /// A device observing another vehicle (an iUSBL): its own vehicle's truth at the body's
+  /// reference point, and the observed vehicle's (mount_devices()); null otherwise.
+  std::shared_ptr<const emulators::Truth> body;
+  std::shared_ptr<const emulators::Truth> observed;
 };
 
 /// Every vehicle's truth, primary first (RunDevice::vehicle indexes it).

@@ -261,6 +261,19 @@ void read_peers(const Field& f, Scenario& s) {
   }
 }
 
+/// Devices that observe another vehicle (an iUSBL) find it, once every vehicle is read.
+void resolve_observers(Scenario& s) {
+  std::vector<std::string> vehicles{s.vehicle_name};
+  for (const auto& p : s.peers) vehicles.push_back(p.vehicle_name);
+  const auto resolve = [&](std::vector<DeviceSpec>& devices, std::size_t own) {
+    for (auto& d : devices) {
+      if (const auto f = device_kind(d).resolve_observed) f(d, vehicles, own);
+    }
+  };
+  resolve(s.devices, 0);
+  for (std::size_t p = 0; p < s.peers.size(); ++p) resolve(s.peers[p].devices, p + 1);
+}
+
 /// An acoustic bit rate: a plain number or "<n> bit/s" / "<n> bps" [bit/s], > 0.
 double read_bit_rate(const Field& f) {
   const std::string expected = "a bit rate such as '1000 bit/s' or 1000";
@@ -368,6 +381,7 @@ Scenario read_scenario(const Field& root, const std::string& file) {
   if (auto v = top.optional("checks")) read_checks(*v, s);
   if (auto v = top.optional("campaign")) detail::read_campaign(*v, s);
   if (auto v = top.optional("peers")) read_peers(*v, s);
+  resolve_observers(s);
   if (auto v = top.optional("acoustic")) read_acoustic(*v, s);
   check_size(duration, s);
   return s;

@@ -137,7 +137,7 @@ void read_fault(const Field& item, Duration run, DeviceSpec& d) {
     }
     const std::vector<std::pair<MK, const char*>> owners{{MK::kGpsJump, "nmea0183-gps"},
                                                          {MK::kBottomLockLoss, "dvl"},
-                                                         {MK::kUsblOutliers, "evologics-usbl"}};
+                                                         {MK::kUsblOutliers, "evologics-usbl or iusbl"}};
     for (const auto& [k, owner] : owners) {
       if (t == emulators::measurement_fault_name(k) &&
           std::find(measurement_kinds.begin(), measurement_kinds.end(), k) ==

@@ -26,7 +26,7 @@ using namespace std::chrono_literals;
 
 // Every `type` docs/scenario.md lists.
 constexpr const char* kEveryType[] = {"microstrain-gx3-25", "nmea0183-gps", "dvl",
-                                      "ebimu-9dof", "evologics-usbl", "keller-rs485",
+                                      "ebimu-9dof", "evologics-usbl", "iusbl", "keller-rs485",
                                       "acoustic-modem", "nmea2000", "wheel-encoders"};
 
 bool has_key(const DeviceKind& k, const std::string& key) {
@@ -57,7 +57,12 @@ TEST(DeviceKinds, EveryTypeHasExactlyOneKindFoundByItsName) {
 
 TEST(DeviceKinds, WhatEachKindPutsOnTheWireMatchesItsLink) {
   for (const auto* k : device_kinds()) {
-    EXPECT_EQ(k->stream != nullptr, k->link == Link::kStream) << k->name;
+    // A stream kind generates from its own vehicle, or (observer_stream) from another too.
+    EXPECT_EQ(k->stream != nullptr || k->observer_stream != nullptr, k->link == Link::kStream)
+        << k->name;
+    EXPECT_FALSE(k->stream != nullptr && k->observer_stream != nullptr) << k->name;
+    EXPECT_EQ(k->observer_stream != nullptr, k->resolve_observed != nullptr) << k->name;
+    EXPECT_EQ(k->observer_stream != nullptr, k->observed_vehicle != nullptr) << k->name;
     EXPECT_EQ(k->frames != nullptr, k->link == Link::kCan) << k->name;
     // A line's keys: a serial kind has port and baud, a CAN kind neither.
     EXPECT_EQ(has_key(*k, "port"), k->link != Link::kCan) << k->name;
@@ -85,6 +90,8 @@ TEST(DeviceKinds, DefaultsAsDocumented) {
   EXPECT_EQ(dvl_kind().rate_hz, 5.0);
   EXPECT_EQ(ebimu_kind().rate_hz, 100.0);
   EXPECT_EQ(usbl_kind().baud, 19200);
+  EXPECT_EQ(iusbl_kind().baud, 19200);
+  EXPECT_EQ(iusbl_kind().rate_hz, 0.5);
   EXPECT_EQ(keller_kind().baud, 9600);
   EXPECT_FALSE(has_key(keller_kind(), "rate"));  // polled: the DUT sets the pace
   EXPECT_EQ(keller_kind().link, Link::kPolled);

@@ -760,7 +760,7 @@ TEST(LoadScenario, MeasurementFaultRefusalsAreOneLineAtTheKey) {
                       "nmea0183-gps only"},
       {"microstrain-gx3-25", "{kind: usbl_outliers, from: 1 s, to: 2 s}",
        stream_kinds + " (for type microstrain-gx3-25), got 'usbl_outliers', a fault of type "
-                      "evologics-usbl only"},
+                      "evologics-usbl or iusbl only"},
       {"nmea0183-gps", "{kind: jump, from: 1 s, to: 2 s}",
        stream_kinds + ", gps_jump, got 'jump'"},
       {"nmea0183-gps", "{kind: wrong, from: 1 s, to: 2 s, quantity: accel, bias: 1 mg}",
