@@ -37,7 +37,8 @@ const std::vector<ProtocolDecoder>& protocol_decoders() {
        std::nullopt},
       {"keller-bus", "Keller RS-485 bus requests and answers (F48, F69, F73, F95)",
        &detail::parse_keller_bus, std::nullopt},
-      {"evologics-usbl", "EvoLogics USBLLONG / USBLANGLES notifications",
+      {"evologics-usbl",
+       "EvoLogics USBLLONG / USBLANGLES notifications (and navbench's NVBRELATT)",
        &detail::parse_evologics_usbl, std::nullopt},
       {detail::kNmea2000,
        "NMEA 2000 candump logs (-l lines or screen print): 127250, 127251, 127257, 128259, "

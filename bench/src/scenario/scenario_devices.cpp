@@ -324,12 +324,16 @@ DeviceSpec read_device(const Field& item, const Scenario& s) {
   if (bits_per_s > d.baud) {
     std::optional<Field> at = m.optional("baud");
     if (!at) at = m.optional("rate");
-    char buf[200];
+    char buf[240];
     std::snprintf(buf, sizeof buf,
                   "baud %d is too low for %g Hz x %zu-byte messages (%g bit/s at %g bits per "
-                  "byte); use at least %d or a lower rate",
-                  d.baud, rate_hz, bytes, bits_per_s, kBitsPerByte, min_baud(bits_per_s));
-    (at ? *at : item).fail(buf);
+                  "byte); ",
+                  d.baud, rate_hz, bytes, bits_per_s, kBitsPerByte);
+    const int enough = min_baud(bits_per_s);
+    const std::string remedy = enough > 0 ? "use at least " + std::to_string(enough) +
+                                                " or a lower rate"
+                                          : "no serial baud is that fast: use a lower rate";
+    (at ? *at : item).fail(buf + remedy);
   }
 
   if (auto v = m.optional("faults")) {

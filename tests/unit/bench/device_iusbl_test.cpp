@@ -83,6 +83,13 @@ TEST(DeviceIusbl, RefusedWhereItNamesNoOtherVehicle) {
   ASSERT_FALSE(offset);
   EXPECT_NE(offset.error().detail.find("shorter than one ping period"), std::string::npos)
       << offset.error().detail;
+  // Its two lines per ping must fit on its line; no serial line fits a thousand a second.
+  const auto fast = load_scenario(write_temp("fast.yaml", pair("bravo", ", rate: 1000 Hz")));
+  ASSERT_FALSE(fast);
+  EXPECT_NE(fast.error().detail.find("320-byte messages (3.2e+06 bit/s at 10 bits per byte); "
+                                     "no serial baud is that fast: use a lower rate"),
+            std::string::npos)
+      << fast.error().detail;
 }
 
 TEST(DeviceIusbl, ItsStreamFindsTheOtherVehicle) {
