@@ -48,26 +48,12 @@
 #include "nav/common/frames.hpp"
 #include "nav/protocols/evologics_usbl.hpp"
 
+#include "acoustic_fix.hpp"
+
 namespace nav::emulators {
 namespace {
 
-constexpr int kIntegrity = 150;         ///< reported signal integrity (>= 100: good link) [-]
-constexpr double kRssiAt1m_db = -35.0;  ///< RSSI at 1 m range [dB]
-constexpr int kMaxIterations = 50;      ///< fixed-point iterations of the travel time
-
 namespace evo = protocols::evologics;
-
-/// Travel time of a ping leaving p_e at t_e to the moving device [s].
-double travel_time_s(const Truth& device, Duration t_e, const Vec3& p_e, double c) {
-  double tau = (device.at(t_e).p_n - p_e).norm() / c;
-  for (int it = 0; it < kMaxIterations; ++it) {
-    const double next = (device.at(t_e + from_seconds(tau)).p_n - p_e).norm() / c;
-    const double step = std::abs(next - tau);
-    tau = next;
-    if (step < 1e-12) break;
-  }
-  return tau;
-}
 
 void check(const IusblConfig& cfg) {
   NAV_ENSURE(std::isfinite(cfg.rate_hz) && cfg.rate_hz > 0.0, "iUSBL rate_hz must be > 0");
@@ -122,16 +108,11 @@ std::vector<WireMessage> generate_iusbl(const IusblConfig& cfg, const Truth& dev
     const double n_pitch = standard_normal(rng);
 
     const TruthSample emitter = observed.at(t_k);
-    const double tau_s = travel_time_s(device, t_k, emitter.p_n, c);
+    const double tau_s = detail::one_way_time_s(device, t_k, emitter.p_n, c);
     const Duration t_a = t_k + from_seconds(tau_s);
-    Vec3 fault_outlier_d = Vec3::Zero();
-    for (const MeasurementFault& f : cfg.measurement_faults) {
-      if (f.kind != MeasurementFault::Kind::kUsblOutliers || !f.active(t_a)) continue;
-      const bool hit = unit_uniform(fault_rng) < f.probability;
-      Vec3 m;
-      for (int j = 0; j < 3; ++j) m[j] = standard_normal(fault_rng);
-      if (hit) fault_outlier_d += f.outlier_std_m * m;
-    }
+    bool fault_outlier = false;
+    const Vec3 fault_outlier_d =
+        detail::usbl_fault_outliers(cfg.measurement_faults, t_a, fault_rng, fault_outlier);
     if (dropout || t_a >= duration) continue;
 
     const TruthSample dev = device.at(t_a);
@@ -165,8 +146,8 @@ std::vector<WireMessage> generate_iusbl(const IusblConfig& cfg, const Truth& dev
     l.pitch_rad = att.pitch;
     l.yaw_rad = att.yaw;
     l.propagation_time_us = static_cast<int>(std::lround(d_d_m.norm() / c * 1e6));
-    l.rssi_db = static_cast<int>(std::lround(kRssiAt1m_db - 20.0 * std::log10(std::max(r, 1.0))));
-    l.integrity = kIntegrity;
+    l.rssi_db = detail::rssi_db(r);
+    l.integrity = detail::kIntegrity;
     l.accuracy_m = std::sqrt(cfg.range_std_m * cfg.range_std_m +
                              2.0 * std::pow(r * cfg.angle_std_rad, 2));
     evo::RelativeAttitude a;

@@ -67,27 +67,14 @@
 #include "nav/emulators/usbl_emulator.hpp"
 #include "nav/protocols/evologics_usbl.hpp"
 
+#include "acoustic_fix.hpp"
+
 namespace nav::emulators {
 namespace {
 
-constexpr int kRemoteAddress = 2;       ///< acoustic address of the vehicle's transponder
-constexpr int kIntegrity = 150;         ///< reported signal integrity (>= 100: good link) [-]
-constexpr double kRssiAt1m_db = -35.0;  ///< RSSI at 1 m range [dB]
-constexpr int kMaxIterations = 50;      ///< fixed-point iterations of the travel time
+constexpr int kRemoteAddress = 2;  ///< acoustic address of the vehicle's transponder
 
-
-/// One-way travel time from the transceiver at p_t to the vehicle it reaches, for a ping
-/// leaving at t_i [s].
-double one_way_time_s(const Truth& truth, Duration t_i, const Vec3& p_t, double c) {
-  double tau = (truth.at(t_i).p_n - p_t).norm() / c;
-  for (int it = 0; it < kMaxIterations; ++it) {
-    const double next = (truth.at(t_i + from_seconds(tau)).p_n - p_t).norm() / c;
-    const double step = std::abs(next - tau);
-    tau = next;
-    if (step < 1e-12) break;
-  }
-  return tau;
-}
+using detail::kIntegrity;
 
 }  // namespace
 
@@ -137,21 +124,12 @@ std::vector<WireMessage> generate_usbl(const UsblConfig& cfg, const Truth& truth
     for (int j = 0; j < 3; ++j) n_outlier[j] = standard_normal(rng);
     const bool dropout = unit_uniform(rng) < cfg.dropout_probability;
 
-    const double tau_s = one_way_time_s(truth, t_i, cfg.transceiver_p_n, c);
+    const double tau_s = detail::one_way_time_s(truth, t_i, cfg.transceiver_p_n, c);
     const Duration t_reply = t_i + from_seconds(tau_s);
     const Duration t_valid = t_i + from_seconds(2.0 * tau_s);
-    Vec3 fault_outlier_s = Vec3::Zero();  // displacement by usbl_outliers faults [m]
-    bool fault_outlier = false;
-    for (const MeasurementFault& f : cfg.measurement_faults) {
-      if (f.kind != MeasurementFault::Kind::kUsblOutliers || !f.active(t_valid)) continue;
-      const bool hit = unit_uniform(fault_rng) < f.probability;
-      Vec3 n;
-      for (int j = 0; j < 3; ++j) n[j] = standard_normal(fault_rng);
-      if (hit) {
-        fault_outlier_s += f.outlier_std_m * n;
-        fault_outlier = true;
-      }
-    }
+    bool fault_outlier = false;  // displaced by usbl_outliers faults [m]
+    const Vec3 fault_outlier_s =
+        detail::usbl_fault_outliers(cfg.measurement_faults, t_valid, fault_rng, fault_outlier);
     if (dropout || t_valid >= duration) continue;
 
     const Vec3 d_s = R_nt.transpose() * (truth.at(t_reply).p_n - cfg.transceiver_p_n);
@@ -175,8 +153,7 @@ std::vector<WireMessage> generate_usbl(const UsblConfig& cfg, const Truth& truth
     const Duration t_send = t_valid + cfg.processing;
     const double current_time_s = cfg.utc_start_unix_s + to_seconds(t_send);
     const double measurement_time_s = cfg.utc_start_unix_s + to_seconds(t_valid);
-    const int rssi_db =
-        static_cast<int>(std::lround(kRssiAt1m_db - 20.0 * std::log10(std::max(r, 1.0))));
+    const int rssi_db = detail::rssi_db(r);
     const double accuracy_m =
         std::sqrt(range_std * range_std + 2.0 * std::pow(r * cfg.angle_std_rad, 2));
 
