@@ -51,4 +51,12 @@ inline const nlohmann::json& get_array(const nlohmann::json& j, const char* key)
   return v.is_array() ? v : kEmpty;
 }
 
+/// Whether a check of summary.json judged a peer's DUT: its `vehicle` is not the primary's
+/// (the first of `vehicles`). The run's timeseries and plots are the primary's.
+inline bool of_peer(const nlohmann::json& summary, const nlohmann::json& check) {
+  const auto vehicle = get_string(check, "vehicle");
+  const auto& vehicles = get_array(summary, "vehicles");
+  return vehicle && !vehicles.empty() && get_string(vehicles.front(), "name") != vehicle;
+}
+
 }  // namespace nav::reports::detail

@@ -201,8 +201,8 @@ std::string checks(const RunFolder& f, const detail::RunPlots& plots) {
     std::string link = "\u2014";
     if (anchor != plots.check_anchor.end()) {
       link = "<a href=\"#" + html_escape(anchor->second) + "\">plot</a>";
-    } else if (kind == "dut_alive") {
-      link = "<a href=\"#dut-log\">DUT log</a>";
+    } else if (kind == "dut_alive" && !detail::of_peer(f.summary, c)) {
+      link = "<a href=\"#dut-log\">DUT log</a>";  // the primary's (a peer's is dut-<name>.log)
     }
     const auto worst = get_number(c, "worst_t_s");
     h += "<tr class=\"" + std::string(!judged ? "skip" : passed ? "pass" : "fail") + "\">";

@@ -217,7 +217,7 @@ void add_track_plots(const RunFolder& f, RunPlots& out) {
     for (const auto& q : kQuantities) {
       std::size_t made = 0;
       for (const auto& c : checks) {
-        if (check_kind(c) != q.kind) continue;
+        if (check_kind(c) != q.kind || of_peer(f.summary, c)) continue;  // the primary's only
         const std::string id = "plot-check-" + std::to_string(&c - &checks[0]);
         errors.plots.push_back(error_plot(f, q, &c, faults, id));
         out.check_anchor[get_string(c, "name", "")] = id;
@@ -230,7 +230,9 @@ void add_track_plots(const RunFolder& f, RunPlots& out) {
   }
   out.sections.push_back(std::move(errors));
   for (const auto& c : get_array(f.summary, "checks")) {
-    if (check_kind(c) == "endpoint_error") out.check_anchor[get_string(c, "name", "")] = "plot-track";
+    if (check_kind(c) == "endpoint_error" && !of_peer(f.summary, c)) {
+      out.check_anchor[get_string(c, "name", "")] = "plot-track";
+    }
   }
 }
 

@@ -87,7 +87,8 @@ json check_json(const CheckResult& c) {
           {"after_s", c.after_s},
           {"unit", c.unit},
           {"worst_t_s", c.worst_t_s ? json(*c.worst_t_s) : json(nullptr)},
-          {"detail", c.detail}};
+          {"detail", c.detail},
+          {"vehicle", string_or_null(c.vehicle)}};
   if (c.max_latency_s > 0) j["max_latency_ms"] = c.max_latency_s * 1e3;
   return j;
 }

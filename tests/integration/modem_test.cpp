@@ -2,7 +2,8 @@
 // Two vehicles, each with its own navd, joined by an acoustic modem link: each navd
 // broadcasts $PNVBPOS reports and hears the other's. scenarios/two-vehicles-modem.yaml end to
 // end, in lockstep (bit-reproducible, exact delivery times) and in realtime (delivery times
-// within a few ms), with packet loss, and with a peer that crashes.
+// within a few ms), with packet loss, with a peer that crashes, and with checks on every
+// vehicle where only the peer is wrong.
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -219,6 +220,35 @@ fs::path variant(const fs::path& dir, const std::string& name,
   return dir / name;
 }
 
+TEST(NavbenchModem, EveryVehicleIsJudgedAndOnlyTheWrongPeerFails) {
+  // bravo's GPS fixes are 60 m north of the truth for the whole run, alpha's are right: with
+  // the horizontal error judged on all vehicles, alpha's passes and bravo's fails the run.
+  const auto dir = fresh_dir("modem-judge-all");
+  const auto path = variant(
+      dir, "all.yaml",
+      {{"  - {kind: horizontal_error, max: 10 m, after: 5 s}",
+        "  - {kind: horizontal_error, max: 10 m, after: 5 s, vehicle: all}\n"
+        "  - {kind: dut_alive, name: bravo_alive, vehicle: bravo}"},
+       {"        - {name: gps, type: nmea0183-gps, baud: 9600, rate: 1 Hz}",
+        "        - {name: gps, type: nmea0183-gps, baud: 9600, rate: 1 Hz,\n"
+        "           faults: [{kind: gps_jump, from: 0 s, to: 23 s, north: 60 m}]}"}});
+  const auto r = run_navbench({"run", path.string(), "--mode", "lockstep", "--out", "run"}, dir);
+  EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+  EXPECT_NE(r.out.find("FAIL  bravo.horizontal_error"), std::string::npos) << r.out;
+  const auto s = summary(dir / "run");
+  const auto* alpha = check(s, "horizontal_error");
+  const auto* bravo = check(s, "bravo.horizontal_error");
+  ASSERT_NE(alpha, nullptr);
+  ASSERT_NE(bravo, nullptr);
+  EXPECT_TRUE((*alpha)["passed"].get<bool>());
+  EXPECT_FALSE((*bravo)["passed"].get<bool>());
+  EXPECT_GT((*bravo)["value"].get<double>(), 40.0);
+  const auto* alive = check(s, "bravo.bravo_alive");
+  ASSERT_NE(alive, nullptr);
+  EXPECT_TRUE((*alive)["passed"].get<bool>());
+  EXPECT_EQ(s["verdict"], "FAIL");
+}
+
 TEST(NavbenchModem, LoaderRefusesBadPeersAndChannels) {
   const auto dir = fresh_dir("modem-loader");
   struct Case {
@@ -239,6 +269,15 @@ TEST(NavbenchModem, LoaderRefusesBadPeersAndChannels) {
       {"rate.yaml",
        {{"{name: modem, type: acoustic-modem}", "{name: modem, type: acoustic-modem, rate: 1 Hz}"}},
        "unknown key 'rate'"},
+      {"vehicle.yaml",
+       {{"  - {kind: dut_alive}", "  - {kind: dut_alive, vehicle: charlie}"}},
+       "checks[1].vehicle: no vehicle named 'charlie' (the scenario's vehicles: 'alpha', "
+       "'bravo'; or all)"},
+      {"deadlines.yaml",
+       {{"  - {kind: dut_alive}",
+         "  - {kind: deadline, max_latency: 50 ms, vehicle: all}\n"
+         "  - {kind: deadline, input: ahrs, max_latency: 50 ms, vehicle: bravo, name: d2}"}},
+       "only one deadline check per vehicle of vehicle 'bravo'"},
   };
   for (const auto& c : cases) {
     const auto path = variant(dir, c.file, c.edits);

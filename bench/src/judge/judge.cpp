@@ -195,8 +195,11 @@ JudgeOutput judge(const JudgeInput& in) {
   out.unmatched_answers = al.unmatched;
   const auto& first_rx = al.first_rx;
 
+  const std::vector<CheckSpec> primary_checks =
+      in.checks ? std::vector<CheckSpec>{} : checks_of_vehicle(sc, 0);
+  const std::vector<CheckSpec>& checks = in.checks ? *in.checks : primary_checks;
   const CheckSpec* deadline = nullptr;
-  for (const auto& c : sc.checks) {
+  for (const auto& c : checks) {
     if (c.kind == CheckKind::kDeadline) deadline = &c;
   }
   std::vector<double> latencies;
@@ -234,7 +237,7 @@ JudgeOutput judge(const JudgeInput& in) {
   }
   out.dut_latency = reports::summarize(latencies);
 
-  for (const auto& c : sc.checks) {
+  for (const auto& c : checks) {
     switch (c.kind) {
       case CheckKind::kHorizontalError:
         out.checks.push_back(envelope_check(c, out.aligned, 1.0, "m", &horizontal, in.stopped_at_s));

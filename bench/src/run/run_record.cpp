@@ -115,6 +115,8 @@ reports::RunRecord make_run_record(const RunFacts& f, const RunIdentity& id) {
                 f.watch.primary_alive(), dut_status};
   if (const auto stopped = f.watch.stopped_at()) in.stopped_at_s = to_seconds(*stopped);
   in.restarts = primary.restarts;
+  const std::vector<CheckSpec> primary_checks = checks_of_vehicle(sc, 0);
+  in.checks = &primary_checks;
   JudgeOutput j = judge(in);
 
   reports::RunRecord rec;
@@ -142,6 +144,8 @@ reports::RunRecord make_run_record(const RunFacts& f, const RunIdentity& id) {
   rec.malformed_examples = primary.reader->malformed_examples();
   add_logs_cut(f, rec);
   rec.checks = std::move(j.checks);
+  for (auto& c : rec.checks) c.vehicle = sc.vehicle_name;
+  std::vector<reports::CheckResult> peer_checks;  // after the primary's, vehicle by vehicle
   for (std::size_t v = 0; v < vehicles.size(); ++v) {
     const Vehicle& veh = vehicles[v];
     reports::VehicleTrack track;
@@ -156,15 +160,27 @@ reports::RunRecord make_run_record(const RunFacts& f, const RunIdentity& id) {
       track.aligned = std::move(j.aligned);
       track.innovations = std::move(j.innovations);
     } else {
-      auto al = align_answers(veh.triggers, veh.reader->answers(), truth, sc.datum);
-      track.aligned = std::move(al.aligned);
-      track.innovations = std::move(al.innovations);
+      // A peer is judged like the primary, by the checks that name it (or all vehicles).
+      JudgeInput pin{&sc, &truth, veh.triggers, veh.reader->answers(), f.t0, !veh.failed,
+                     veh.status};
+      pin.stopped_at_s = in.stopped_at_s;
+      pin.restarts = veh.restarts;
+      const std::vector<CheckSpec> mine = checks_of_vehicle(sc, v);
+      pin.checks = &mine;
+      JudgeOutput pj = judge(pin);
+      track.aligned = std::move(pj.aligned);
+      track.innovations = std::move(pj.innovations);
+      for (auto& c : pj.checks) {
+        c.vehicle = veh.name;
+        peer_checks.push_back(std::move(c));
+      }
     }
     track.triggers_sent = veh.triggers_sent;
     track.answers = veh.reader->answer_count();
     track.dut_status = v == 0 ? dut_status : veh.status;
     rec.vehicles.push_back(std::move(track));
   }
+  for (auto& c : peer_checks) rec.checks.push_back(std::move(c));
   rec.latency = std::move(j.latency);
   rec.dut_latency = j.dut_latency;
   std::vector<double> late;

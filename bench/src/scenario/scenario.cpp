@@ -378,10 +378,11 @@ Scenario read_scenario(const Field& root, const std::string& file) {
   if (auto v = top.optional("bench")) read_bench(*v, s);
   read_vehicle(top.required("vehicle"), s);
   read_dut(top.required("dut"), s);
-  if (auto v = top.optional("checks")) read_checks(*v, s);
-  if (auto v = top.optional("campaign")) detail::read_campaign(*v, s);
   if (auto v = top.optional("peers")) read_peers(*v, s);
   resolve_observers(s);
+  // After the peers: a check may name any vehicle.
+  if (auto v = top.optional("checks")) read_checks(*v, s);
+  if (auto v = top.optional("campaign")) detail::read_campaign(*v, s);
   if (auto v = top.optional("acoustic")) read_acoustic(*v, s);
   check_size(duration, s);
   return s;

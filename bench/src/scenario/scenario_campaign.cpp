@@ -32,13 +32,16 @@ double open_probability(const Field& f) {
   return p;
 }
 
-/// The run check `of` names; refused (listing the checks) when the scenario has none so named.
-const CheckSpec& run_check(const Field& f, const Scenario& s) {
+/// The run check `of` names, as its results are named (a peer's "<vehicle>.<name>");
+/// refused (listing the checks) when the scenario has none so named.
+CheckSpec run_check(const Field& f, const Scenario& s) {
   const std::string name = f.identifier();
   std::string names;
-  for (const auto& c : s.checks) {
-    if (c.name == name) return c;
-    names += (names.empty() ? "" : ", ") + c.name;
+  for (std::size_t v = 0; v <= s.peers.size(); ++v) {
+    for (auto& c : checks_of_vehicle(s, v)) {
+      if (c.name == name) return c;
+      names += (names.empty() ? "" : ", ") + c.name;
+    }
   }
   f.fail("no check named " + quoted(name) + " in this scenario's checks" +
          (names.empty() ? std::string(" (it has none)") : " (" + names + ")"));
@@ -66,7 +69,7 @@ CampaignCheckSpec read_campaign_check(const Field& item, const Scenario& s) {
   if (auto v = m.optional("title")) c.title = v->line("the requirement's title", 300);
   if (c.kind == Kind::kQuantile) {
     const Field of = m.required("of");
-    const CheckSpec& run = run_check(of, s);
+    const CheckSpec run = run_check(of, s);
     c.of = run.name;
     c.quantile = open_probability(m.required("quantile"));
     const Field max = m.required("max");

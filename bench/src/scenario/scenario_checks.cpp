@@ -33,6 +33,20 @@ const std::vector<std::pair<std::string, CheckSpec::Kind>>& check_kinds() {
   return kinds;
 }
 
+/// The DUT of the vehicle a check judges: the primary's for none or `all` (their input and
+/// restarts are checked against the primary's; each vehicle's own at judging), else the
+/// named one's; fails at `at` when there is no such vehicle.
+const DutSpec& dut_of(const std::string& vehicle, const Scenario& s, const Field& at) {
+  if (vehicle.empty() || vehicle == kAllVehicles || vehicle == s.vehicle_name) return s.dut;
+  for (const auto& p : s.peers) {
+    if (p.vehicle_name == vehicle) return p.dut;
+  }
+  std::string names = quoted(s.vehicle_name);
+  for (const auto& p : s.peers) names += ", " + quoted(p.vehicle_name);
+  at.fail("no vehicle named " + quoted(vehicle) + " (the scenario's vehicles: " + names +
+          "; or all)");
+}
+
 CheckSpec read_check(const Field& item, const Scenario& s) {
   using Kind = CheckSpec::Kind;
   const auto& kinds = check_kinds();
@@ -43,7 +57,7 @@ CheckSpec read_check(const Field& item, const Scenario& s) {
   c.kind = kind_field->choice(kinds);
   c.name = kind_field->node().Scalar();
 
-  std::vector<std::string> keys{"kind", "name", "req", "title"};
+  std::vector<std::string> keys{"kind", "name", "req", "title", "vehicle"};
   switch (c.kind) {
     case Kind::kHorizontalError:
     case Kind::kVerticalError: keys.insert(keys.end(), {"max", "per_distance", "after"}); break;
@@ -55,6 +69,13 @@ CheckSpec read_check(const Field& item, const Scenario& s) {
     case Kind::kConsistency: keys.insert(keys.end(), {"of", "source", "after"}); break;
   }
   const MapReader m(item, keys);
+  const DutSpec* dut = &s.dut;
+  if (auto v = m.optional("vehicle")) {
+    c.vehicle = v->identifier();
+    if (c.vehicle == s.vehicle_name) c.vehicle.clear();  // the primary: as without the key
+    dut = &dut_of(c.vehicle, s, *v);
+  }
+  const bool peer = !c.vehicle.empty() && c.vehicle != kAllVehicles;
   if (c.kind == Kind::kConsistency) {
     c.of = m.required("of").choice<std::string>(
         {{"position", "position"}, {"attitude", "attitude"}, {"innovation", "innovation"}});
@@ -83,11 +104,22 @@ CheckSpec read_check(const Field& item, const Scenario& s) {
       c.max = m.required("max").quantity(Dimension::kAngle, Bound::kPositive);
       break;
     case Kind::kDeadline: {
-      const Field input = m.required("input");
-      c.input = device_ref(input, s);
-      if (c.input != s.dut.trigger) {
-        input.fail("the deadline input must be the DUT trigger " + quoted(s.dut.trigger) +
-                   " (latency is measured from the trigger's messages to the answers)");
+      // The primary's names its trigger (as before vehicles); a peer's or `all`'s may, and
+      // defaults to each vehicle's own.
+      if (c.vehicle.empty()) {
+        const Field input = m.required("input");
+        c.input = device_ref(input, s);
+      } else if (auto input = m.optional("input")) {
+        if (!peer) input->fail("a deadline of all vehicles takes each one's own trigger: "
+                               "leave 'input' out");
+        c.input = input->identifier();
+      } else {
+        c.input = dut->trigger;
+      }
+      if (c.input != dut->trigger) {
+        const Field at = *m.optional("input");
+        at.fail("the deadline input must be the DUT trigger " + quoted(dut->trigger) +
+                " (latency is measured from the trigger's messages to the answers)");
       }
       c.max = to_seconds(m.required("max_latency").duration(Bound::kPositive));
       if (auto v = m.optional("max_misses")) c.max_misses = v->integer<int>(0, 1'000'000'000);
@@ -96,7 +128,7 @@ CheckSpec read_check(const Field& item, const Scenario& s) {
     case Kind::kDutAlive:
     case Kind::kConsistency: break;
     case Kind::kRestartRecovery:
-      if (s.dut.restarts.empty()) {
+      if (dut->restarts.empty()) {
         kind_field->fail("a restart_recovery check needs a restart in dut.faults "
                          "({kind: restart, from: ..., to: ...})");
       }
@@ -120,19 +152,30 @@ CheckSpec read_check(const Field& item, const Scenario& s) {
 }  // namespace
 
 void read_checks(const Field& f, Scenario& s) {
-  std::map<std::string, int> names;  // name -> 1-based line
-  bool deadline = false;
+  // Per vehicle (the result names of checks_of_vehicle()): name -> 1-based line; deadlines.
+  std::vector<std::string> vehicles{s.vehicle_name};
+  for (const auto& p : s.peers) vehicles.push_back(p.vehicle_name);
+  std::vector<std::map<std::string, int>> names(vehicles.size());
+  std::vector<bool> deadline(vehicles.size(), false);
   for (const Field& item : f.list("a list of checks", 0)) {
     CheckSpec c = read_check(item, s);
     const Field where = item.peek("name") ? *item.peek("name") : *item.peek("kind");
-    if (c.kind == CheckSpec::Kind::kDeadline) {
-      if (deadline) where.fail("only one deadline check per scenario (the DUT has one trigger)");
-      deadline = true;
-    }
-    const auto [it, fresh] = names.emplace(c.name, item.mark().line + 1);
-    if (!fresh) {
-      where.fail("duplicate check name " + quoted(c.name) + " (first at line " +
-                 std::to_string(it->second) + "; add name: to tell them apart)");
+    for (std::size_t v = 0; v < vehicles.size(); ++v) {
+      const bool judges = c.vehicle == kAllVehicles || (c.vehicle.empty() && v == 0) ||
+                          c.vehicle == vehicles[v];
+      if (!judges) continue;
+      const std::string on = v == 0 ? "" : " of vehicle " + quoted(vehicles[v]);
+      if (c.kind == CheckSpec::Kind::kDeadline) {
+        if (deadline[v]) {
+          where.fail("only one deadline check per vehicle" + on + " (a DUT has one trigger)");
+        }
+        deadline[v] = true;
+      }
+      const auto [it, fresh] = names[v].emplace(c.name, item.mark().line + 1);
+      if (!fresh) {
+        where.fail("duplicate check name " + quoted(c.name) + on + " (first at line " +
+                   std::to_string(it->second) + "; add name: to tell them apart)");
+      }
     }
     s.checks.push_back(std::move(c));
   }
@@ -141,6 +184,22 @@ void read_checks(const Field& f, Scenario& s) {
 }  // namespace nav::bench::detail
 
 namespace nav::bench {
+
+std::vector<CheckSpec> checks_of_vehicle(const Scenario& s, std::size_t v) {
+  const std::string& name = v == 0 ? s.vehicle_name : s.peers.at(v - 1).vehicle_name;
+  const DutSpec& dut = v == 0 ? s.dut : s.peers.at(v - 1).dut;
+  std::vector<CheckSpec> out;
+  for (const auto& c : s.checks) {
+    const bool judges = c.vehicle == kAllVehicles || (c.vehicle.empty() && v == 0) ||
+                        (v > 0 && c.vehicle == name);
+    if (!judges) continue;
+    CheckSpec mine = c;
+    if (v > 0) mine.name = name + "." + c.name;
+    if (c.kind == CheckSpec::Kind::kDeadline) mine.input = dut.trigger;
+    out.push_back(std::move(mine));
+  }
+  return out;
+}
 
 const char* check_kind_name(CheckSpec::Kind k) {
   for (const auto& [name, kind] : detail::check_kinds()) {

@@ -56,6 +56,8 @@ struct JudgeInput {
   /// The scenario time a signal stopped the run at; none for a run that reached its end.
   std::optional<double> stopped_at_s{};
   std::vector<RestartRecord> restarts{};  ///< the DUT's restarts, in time order
+  /// The checks judged (checks_of_vehicle() of this DUT's vehicle); null: the primary's.
+  const std::vector<CheckSpec>* checks = nullptr;
 };
 
 struct JudgeOutput {

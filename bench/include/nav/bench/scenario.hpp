@@ -118,7 +118,18 @@ struct CheckSpec {
   std::string of{};            ///< consistency: "position", "attitude" or "innovation"
   /// consistency of innovation: the DUT's measurement name ($PNVBINN); empty: every one.
   std::string source{};
+  /// The vehicle it judges: empty for the primary (a check without `vehicle`), a vehicle's
+  /// name, or "all" (kAllVehicles): one result per vehicle.
+  std::string vehicle{};
 };
+
+/// CheckSpec::vehicle of a check that judges every vehicle.
+inline constexpr const char* kAllVehicles = "all";
+
+/// The checks that judge vehicle v (0: the primary, 1 + i: peers[i]) as its results are named:
+/// a peer's as "<vehicle>.<name>" (like its devices), the primary's as written; a deadline of
+/// `all` on each vehicle's own trigger. In the order of the file.
+std::vector<CheckSpec> checks_of_vehicle(const struct Scenario& s, std::size_t v);
 
 /// The scenario name of a check kind ("horizontal_error", ...).
 const char* check_kind_name(CheckSpec::Kind k);

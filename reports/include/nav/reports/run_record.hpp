@@ -42,6 +42,9 @@ struct CheckResult {
   /// Scenario time of the worst sample (largest margin over the envelope, latest solution
   /// of an endpoint, slowest answer of a deadline) [s]; none when nothing was judged.
   std::optional<double> worst_t_s{};
+  /// The vehicle whose DUT it judged (the scenario's vehicle name; a peer's results are also
+  /// named "<vehicle>.<name>").
+  std::string vehicle{};
 };
 
 /// One aligned estimate (only solutions with a valid position).
