@@ -3,6 +3,7 @@
 // or, with NAV_UPDATE_GOLDEN=1 in the environment, written instead (scripts/update-golden).
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -64,6 +65,30 @@ inline std::string first_difference(const std::string& a, const std::string& b) 
   }
 }
 
+/// The first line where a and b differ among the quoted lines, skipping the digest's counts and
+/// hash (which say that the texts differ, not where): "" when those all agree.
+inline std::string first_quoted_difference(const std::string& a, const std::string& b) {
+  const auto quoted_lines = [](const std::string& text) {
+    std::vector<std::string> out;
+    std::istringstream in(text);
+    for (std::string l; std::getline(in, l);) {
+      const bool digest = l.find("_fnv1a64 ") != std::string::npos ||
+                          l.find("_bytes ") != std::string::npos ||
+                          l.find("_lines ") != std::string::npos || l.rfind("solutions ", 0) == 0;
+      if (!digest) out.push_back(l);
+    }
+    return out;
+  };
+  const auto la = quoted_lines(a);
+  const auto lb = quoted_lines(b);
+  for (std::size_t i = 0; i < std::max(la.size(), lb.size()); ++i) {
+    const std::string x = i < la.size() ? la[i] : "<end>";
+    const std::string y = i < lb.size() ? lb[i] : "<end>";
+    if (x != y) return "\n  first quoted line that differs:\n  golden: " + x + "\n  now:    " + y;
+  }
+  return "\n  every quoted line agrees: the outputs part between them";
+}
+
 /// Compares now with the golden file (relative to the source tree), or writes it when
 /// NAV_UPDATE_GOLDEN=1 (the test is then skipped).
 inline void expect_golden(const std::string& golden_rel, const std::string& now,
@@ -78,6 +103,7 @@ inline void expect_golden(const std::string& golden_rel, const std::string& now,
   ASSERT_TRUE(std::filesystem::exists(golden)) << golden << " is missing: run scripts/update-golden";
   const std::string expected = slurp(golden);
   EXPECT_TRUE(now == expected) << what << " changed at " << first_difference(expected, now)
+                               << first_quoted_difference(expected, now)
                                << "\nIf the change is deliberate, run scripts/update-golden and "
                                   "commit the golden files with it.";
 }

@@ -79,7 +79,12 @@ TEST_P(Golden, LockstepOutputMatchesTheGoldenFile) {
   const std::string now = golden_text(scenario, std::string(bytes->begin(), bytes->end()));
 
   expect_golden("tests/golden/" + scenario + ".golden", now, scenario + ": navd's lockstep output");
-  fs::remove_all(dir);
+  // A run that does not match is kept, captures, DUT log and all, to see why.
+  if (HasFailure()) {
+    ADD_FAILURE() << "the run is kept in " << run.string();
+  } else {
+    fs::remove_all(dir);
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Paper, Golden, ::testing::ValuesIn(golden_scenarios()),
