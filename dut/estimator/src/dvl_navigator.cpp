@@ -17,10 +17,12 @@ geodesy::Geodetic origin_of(const FilterParams& p) {
 
 }  // namespace
 
-DvlNavigator::DvlNavigator(const FilterParams& params, AttitudeFilterKind kind)
+DvlNavigator::DvlNavigator(const FilterParams& params, AttitudeFilterKind kind,
+                           DvlStart start)
     : params_(params),
       attitude_(make_attitude_filter(kind, params)),
-      plane_(origin_of(params)) {}
+      plane_(origin_of(params)),
+      start_(start) {}
 
 void DvlNavigator::add_dvl_velocity(const Vec3& v_b_mps) {
   if (!v_b_mps.allFinite() || v_b_mps.norm() > kMaxDvlSpeedMps) {
@@ -37,6 +39,16 @@ void DvlNavigator::add_depth(double depth_m) {
     return;
   }
   queued_depth_ = depth_m;
+}
+
+void DvlNavigator::add_gps_position(const GpsPosition& fix) {
+  const bool finite = std::isfinite(fix.position.lat_rad) &&
+                      std::isfinite(fix.position.lon_rad) && std::isfinite(fix.position.alt_m);
+  if (start_ != DvlStart::kFirstGpsFix || started_ || queued_fix_ || !finite) {
+    ++stats_.gps_ignored;
+    return;
+  }
+  queued_fix_ = fix.position;
 }
 
 void DvlNavigator::on_ahrs(const AhrsSample& s) {
@@ -56,6 +68,7 @@ void DvlNavigator::on_ahrs(const AhrsSample& s) {
       return;
     }
     aligned_ = true;
+    started_ = start_ == DvlStart::kOrigin;
     previous_timer_ = s.timer_ticks;
     queued_velocity_.reset();  // measured before the start: not part of the run
     queued_depth_.reset();
@@ -110,12 +123,19 @@ void DvlNavigator::on_ahrs(const AhrsSample& s) {
     queued_depth_.reset();
     ++stats_.depth_used;
   }
+
+  if (queued_fix_) {
+    p_n_ = plane_.to_ned(*queued_fix_);  // (D4) the start
+    queued_fix_.reset();
+    started_ = true;
+    ++stats_.gps_used;
+  }
 }
 
 NavSolution DvlNavigator::solution() const {
   NavSolution s;
   s.attitude_valid = aligned_;
-  s.position_valid = aligned_;
+  s.position_valid = aligned_ && started_;
   s.q_nb = attitude_->q_nb();
   s.p_n = p_n_;
   s.v_n = v_n_;

@@ -48,6 +48,56 @@ TEST(DvlNavigator, StartsAtTheOriginOnTheFirstSample) {
   EXPECT_EQ(s.p_n, Vec3::Zero());
 }
 
+TEST(DvlNavigator, StartedByGpsIsInvalidUntilTheFirstFixWhichSetsThePosition) {
+  // GIVEN a navigator that starts at the first GPS fix, heading east at 1 m/s
+  const Quat q = quat_from_euler({0.0, 0.0, 90 * kDeg});
+  DvlNavigator nav(pool_params(), AttitudeFilterKind::kMahony, DvlStart::kFirstGpsFix);
+  std::uint32_t ticks = 0;
+  nav.on_ahrs(static_sample(q, ticks));
+  for (int k = 1; k <= 20; ++k) {
+    nav.add_dvl_velocity(Vec3(1.0, 0.0, 0.0));
+    nav.on_ahrs(static_sample(q, ticks += kTicks20Hz));
+  }
+  // THEN the attitude is valid but the position is not
+  EXPECT_TRUE(nav.solution().attitude_valid);
+  EXPECT_FALSE(nav.solution().position_valid);
+  // WHEN a fix 100 m north and 50 m east of the origin, at 2 m depth, comes, then a second
+  const geodesy::LocalTangentPlane plane(
+      {36.3833 * kDeg, 127.36 * kDeg, -pool_params().origin_depth_m});
+  GpsPosition fix;
+  fix.position = plane.to_geodetic(Vec3(100.0, 50.0, 0.5));
+  nav.add_gps_position(fix);
+  GpsPosition other;
+  other.position = plane.to_geodetic(Vec3(-7.0, 0.0, 0.0));
+  nav.add_gps_position(other);
+  nav.add_dvl_velocity(Vec3(1.0, 0.0, 0.0));
+  nav.on_ahrs(static_sample(q, ticks += kTicks20Hz));
+  // THEN the first sets the position at that sample (D4), after which it dead-reckons
+  EXPECT_TRUE(nav.solution().position_valid);
+  EXPECT_NEAR(nav.solution().p_n.x(), 100.0, 1e-6);
+  EXPECT_NEAR(nav.solution().p_n.y(), 50.0, 1e-6);
+  EXPECT_NEAR(nav.solution().p_n.z(), 0.5, 1e-6);
+  nav.add_gps_position(other);
+  for (int k = 1; k <= 20; ++k) {
+    nav.add_dvl_velocity(Vec3(1.0, 0.0, 0.0));
+    nav.on_ahrs(static_sample(q, ticks += kTicks20Hz));
+  }
+  EXPECT_NEAR(nav.solution().p_n.y(), 51.0, 1e-6);  // 1 s east at 1 m/s
+  EXPECT_EQ(nav.stats().gps_used, 1u);
+  EXPECT_EQ(nav.stats().gps_ignored, 2u);
+}
+
+TEST(DvlNavigator, StartedAtTheOriginIgnoresGps) {
+  DvlNavigator nav(pool_params(), AttitudeFilterKind::kMahony);
+  GpsPosition fix;
+  fix.position = {36.0 * kDeg, 127.0 * kDeg, 0.0};
+  nav.add_gps_position(fix);
+  nav.on_ahrs(static_sample(Quat::Identity(), 0));
+  nav.on_ahrs(static_sample(Quat::Identity(), kTicks20Hz));
+  EXPECT_EQ(nav.solution().p_n, Vec3::Zero());
+  EXPECT_EQ(nav.stats().gps_ignored, 1u);
+}
+
 TEST(DvlNavigator, RotatesTheBodyVelocityIntoNedAndIntegrates) {
   // GIVEN a rig heading east (yaw 90°), level, moving 0.5 m/s forward and 0.1 m/s to starboard
   const Quat q = quat_from_euler({0.0, 0.0, 90 * kDeg});

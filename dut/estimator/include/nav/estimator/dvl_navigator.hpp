@@ -20,7 +20,10 @@
 //
 // The dead reckoning starts at the configured origin (origin_lat_deg, origin_lon_deg,
 // origin_depth_m) when the attitude source initialises from the first usable AHRS sample;
-// position and attitude are valid from then on. No GPS is used: the P0 experiment runs
+// position and attitude are valid from then on. Started with DvlStart::kFirstGpsFix
+// (paper P2's vehicles, which dive from the surface), the position is not valid until the
+// first GPS fix queued by add_gps_position(): at the next AHRS sample it sets p_n (D4, after
+// D0..D3), and the dead reckoning goes on from there; later fixes are counted, not used. No GPS is used: the P0 experiment runs
 // submerged in a pool. The DVL is assumed aligned with the AHRS (instrument frame = body
 // FRD) with no lever arm, as in the paper. No I/O, no clocks.
 #pragma once
@@ -48,24 +51,37 @@ struct DvlNavigatorStats {
   std::uint64_t stale_samples = 0;          ///< propagated samples without a fresh v_b (D2)
   std::uint64_t depth_used = 0;             ///< depths applied (D3)
   std::uint64_t depth_rejected_invalid = 0; ///< depths with NaN/Inf
+  std::uint64_t gps_used = 0;               ///< GPS fixes that set the start (D4)
+  std::uint64_t gps_ignored = 0;            ///< GPS fixes after the start, not finite, or kOrigin
+};
+
+/// Where the dead reckoning starts.
+enum class DvlStart {
+  kOrigin,       ///< the configured origin, at the first AHRS sample (paper P0)
+  kFirstGpsFix,  ///< the first GPS fix (a vehicle that dives from the surface, paper P2)
 };
 
 /// DVL dead reckoning with a configurable attitude source; see the file comment.
 class DvlNavigator {
  public:
   /// params must pass validate(); `kind` selects the attitude source.
-  DvlNavigator(const FilterParams& params, AttitudeFilterKind kind);
+  DvlNavigator(const FilterParams& params, AttitudeFilterKind kind,
+               DvlStart start = DvlStart::kOrigin);
 
   /// Queues a bottom-track velocity of the vehicle over ground, body frame [m/s].
   void add_dvl_velocity(const Vec3& v_b_mps);
   /// Queues a depth below mean sea level [m, + down].
   void add_depth(double depth_m);
+  /// Queues a GPS position: with DvlStart::kFirstGpsFix the first one sets the start (D4);
+  /// any other is counted as ignored.
+  void add_gps_position(const GpsPosition& fix);
 
   /// Processes one AHRS sample (D0..D3).
   void on_ahrs(const AhrsSample& sample);
 
-  /// The current estimate: position_valid and attitude_valid once the source initialised;
-  /// p_std_m is zero (dead reckoning carries no covariance).
+  /// The current estimate: attitude_valid once the source initialised, position_valid from
+  /// then on (kOrigin) or from the first GPS fix on (kFirstGpsFix); p_std_m is zero (dead
+  /// reckoning carries no covariance).
   NavSolution solution() const;
   /// Status of the attitude step of the last AHRS sample (kOk when it made none).
   AttitudeStatus last_attitude_status() const { return last_status_; }
@@ -82,7 +98,10 @@ class DvlNavigator {
   FilterParams params_;
   std::unique_ptr<AttitudeFilter> attitude_;
   geodesy::LocalTangentPlane plane_;
+  DvlStart start_;
   bool aligned_ = false;
+  bool started_ = false;  ///< the position is known (kOrigin: at alignment)
+  std::optional<geodesy::Geodetic> queued_fix_;  ///< kFirstGpsFix: the start, before D4
   std::uint32_t previous_timer_ = 0;
   double t_s_ = 0.0;  ///< AHRS time since alignment, accumulated from the timer [s]
   std::optional<Vec3> queued_velocity_;
