@@ -237,7 +237,9 @@ std::string AidingInput::counters_text() const {
     s += type + "=" + std::to_string(n);
   }
   const auto r = rejects();
-  s += "} rejects{checksum=" + std::to_string(r.stream.checksum) +
+  s += "}";
+  if (unpaired_relative_ > 0) s += " unpaired_nvbrelatt=" + std::to_string(unpaired_relative_);
+  s += " rejects{checksum=" + std::to_string(r.stream.checksum) +
        " framing=" + std::to_string(r.stream.framing) +
        " sync_bytes=" + std::to_string(r.stream.sync_bytes) +
        " overflow_bytes=" + std::to_string(r.stream.overflow_bytes) +
@@ -342,6 +344,25 @@ void AidingInput::on_message(const ebimu::Line& m) {
 void AidingInput::on_message(const evo::Notification& m) {
   count(std::string(evo::header_of(m.fix)));
   last_ = m;
+  if (const auto* l = std::get_if<evo::UsblLong>(&m.fix)) {
+    last_long_ = *l;
+  } else if (const auto* a = std::get_if<evo::RelativeAttitude>(&m.fix)) {
+    if (last_long_ && last_long_->measurement_time_s == a->measurement_time_s &&
+        last_long_->remote_address == a->remote_address) {
+      relative_fixes_.push_back({*last_long_, *a});
+    } else {
+      ++unpaired_relative_;
+    }
+    last_long_.reset();
+  } else {
+    last_long_.reset();
+  }
+}
+
+std::vector<AidingInput::RelativeFix> AidingInput::take_relative_fixes() {
+  std::vector<RelativeFix> out;
+  out.swap(relative_fixes_);
+  return out;
 }
 
 void AidingInput::on_message(const nmea::Sentence& m) {

@@ -129,6 +129,17 @@ class AidingInput {
     return velocity_;
   }
 
+  /// One iUSBL ping: its USBLLONG and the NVBRELATT of the same measurement time and
+  /// address that followed it (paper P2's fix, p2_fix.hpp).
+  struct RelativeFix {
+    protocols::evologics::UsblLong position;
+    protocols::evologics::RelativeAttitude attitude;
+  };
+  /// The iUSBL fixes completed since the last call, in stream order (cleared by the call);
+  /// always empty for other protocols. An NVBRELATT that does not follow the USBLLONG of its
+  /// ping is counted (counters_text's `unpaired_nvbrelatt`, shown when not 0).
+  std::vector<RelativeFix> take_relative_fixes();
+
   /// Whether the protocol is a DVL's (nq1, pd0, pd6, a50).
   bool is_dvl() const;
 
@@ -173,6 +184,9 @@ class AidingInput {
   std::optional<std::array<double, 3>> velocity_;
   bool velocity_new_ = false;  ///< velocity_ set since the last take_velocity()
   std::vector<protocols::keller::Response> keller_answers_;  ///< not yet taken
+  std::optional<protocols::evologics::UsblLong> last_long_;  ///< awaiting its NVBRELATT
+  std::vector<RelativeFix> relative_fixes_;                  ///< not yet taken
+  std::uint64_t unpaired_relative_ = 0;  ///< NVBRELATT not after its ping's USBLLONG
 };
 
 }  // namespace nav::dut

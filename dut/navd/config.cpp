@@ -9,6 +9,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "config_p1.hpp"
+#include "config_p2.hpp"
 #include "nav/common/escape.hpp"
 #include "nav/estimator/p1_driver.hpp"
 
@@ -47,6 +48,7 @@ std::string known_keys() {
   }
   for (const auto& f : kNavdFields) s += std::string(", ") + f.name;
   for (const auto& f : p1_fields()) s += std::string(", ") + f.name;
+  for (const auto& f : p2_fields()) s += std::string(", ") + f.name;
   return s;
 }
 
@@ -79,13 +81,15 @@ Result<void> set_choice(NavdConfig& config, const std::string& key, const YAML::
       config.navigator = NavigatorKind::kGpsIns;
     } else if (v == "dvl") {
       config.navigator = NavigatorKind::kDvl;
+    } else if (v == "p2") {
+      config.navigator = NavigatorKind::kP2;
     } else if (estimator::make_p1_navigator(v, estimator::P1Params{})) {
       config.navigator = NavigatorKind::kP1;
       config.p1_navigator = v;
     } else {
       return fail(ErrorCode::kInvalidArgument, "unknown navigator '" + v +
-                                                   "' (expected gps-ins, dvl or a paper P1 "
-                                                   "navigator: " +
+                                                   "' (expected gps-ins, dvl, p2 or a paper "
+                                                   "P1 navigator: " +
                                                    estimator::p1_navigator_names() + ")");
     }
     return {};
@@ -103,6 +107,7 @@ std::string navigator_name(const NavdConfig& config) {
     case NavigatorKind::kGpsIns: return "gps-ins";
     case NavigatorKind::kDvl: return "dvl";
     case NavigatorKind::kP1: return config.p1_navigator;
+    case NavigatorKind::kP2: return "p2";
   }
   return "?";
 }
@@ -160,6 +165,22 @@ Result<NavdConfig> load_config(const std::string& path) {
       }
       continue;
     }
+    if (const P2Field* p2 = find_p2_field(name)) {
+      double v = 0.0;
+      try {
+        if (!value.IsScalar()) throw YAML::Exception(value.Mark(), "not a scalar");
+        v = value.as<double>();
+      } catch (const YAML::Exception&) {
+        return fail(ErrorCode::kParse, where(path, value.Mark()) + ": '" + name +
+                                           "' expects a number (" + p2->doc + ")");
+      }
+      p2->set(config.p2, v);
+      if (auto ok = validate(config.p2); !ok) {
+        return fail(ErrorCode::kInvalidArgument, where(path, value.Mark()) + ": " + name +
+                                                     ": " + ok.error().detail);
+      }
+      continue;
+    }
     const estimator::ParamField* field = find_field(name);
     const NavdField* navd_field = find_navd_field(name);
     if (field == nullptr && navd_field == nullptr) {
@@ -195,9 +216,11 @@ std::string config_keys_help() {
   std::string s = std::string("  ") + kNavigatorKey +
                   " (default gps-ins): gps-ins (AHRS + GPS Kalman filter anchored at the first "
                   "GPS fix), dvl (DVL dead reckoning from origin_lat_deg/origin_lon_deg/"
-                  "origin_depth_m, paper P0), or a paper P1 navigator from that origin (" +
+                  "origin_depth_m, paper P0), a paper P1 navigator from that origin (" +
                   estimator::p1_navigator_names() +
-                  ": strapdown INS only, or with the 15-state error EKF; the p1_* keys)\n  " +
+                  ": strapdown INS only, or with the 15-state error EKF; the p1_* keys), or "
+                  "p2 (paper P2: DVL dead reckoning from the first GPS fix, joined with the "
+                  "other vehicles' over the modem and the iUSBL fixes; the p2_* keys)\n  " +
                   kAttitudeKey + " (default mahony): attitude source, one of " +
                   estimator::attitude_filter_names() +
                   " (raw/ekf/ukf/cf: paper P0's no-filtering, Euler EKF, Euler UKF and PI "
@@ -213,6 +236,11 @@ std::string config_keys_help() {
   for (const auto& f : kNavdFields) {
     s += std::string("  ") + f.name + " (default " + format_g(navd_defaults.*(f.member)) +
          "): " + f.doc + "\n";
+  }
+  const P2Config p2_defaults;
+  for (const auto& f : p2_fields()) {
+    s += std::string("  ") + f.name + " (default " + format_g(f.get(p2_defaults)) + "): " +
+         f.doc + "\n";
   }
   const estimator::P1Params p1_defaults;
   for (const auto& f : p1_fields()) {

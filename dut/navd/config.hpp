@@ -2,7 +2,7 @@
 // navd's optional YAML config file: a flat map of FilterParams fields and of navd's own
 // parameters (NavdParams) by name, plus two choices by name, e.g.
 //
-//   navigator: dvl            # gps-ins (default) or dvl
+//   navigator: dvl            # gps-ins (default), dvl, a P1 navigator or p2
 //   attitude_filter: ekf      # mahony (default), raw, ekf, ukf, cf or eskf
 //   attitude_kp_per_s: 0.8
 //   gps_horizontal_std_m: 1.5
@@ -17,6 +17,7 @@
 #include "nav/estimator/attitude_filter.hpp"
 #include "nav/estimator/filter_params.hpp"
 #include "nav/estimator/p1_types.hpp"
+#include "config_p2.hpp"
 
 namespace nav::dut {
 
@@ -32,6 +33,7 @@ enum class NavigatorKind {
   kGpsIns,  ///< "gps-ins": AHRS + GPS (+ depth) Kalman filter anchored at the first GPS fix
   kDvl,     ///< "dvl": DVL dead reckoning from the configured origin (paper P0)
   kP1,      ///< "ins", "ekf15", "upf15", "mfins": a paper P1 navigator (p1_driver.hpp), NavdConfig::p1_navigator
+  kP2,      ///< "p2": paper P2's cooperative localisation (p2_navigator.hpp), the p2_* keys
 };
 
 /// Everything a config file sets.
@@ -43,9 +45,10 @@ struct NavdConfig {
       estimator::AttitudeFilterKind::kMahony;        ///< key `attitude_filter`
   std::string p1_navigator;   ///< with kP1: the P1 navigator's name ("ins", "ekf15", "upf15", "mfins")
   estimator::P1Params p1;     ///< the p1_* keys (config_p1.hpp); seed from --seed
+  P2Config p2;                ///< the p2_* keys (config_p2.hpp)
 };
 
-/// The navigator's name: "gps-ins", "dvl" or the P1 navigator's.
+/// The navigator's name: "gps-ins", "dvl", "p2" or the P1 navigator's.
 std::string navigator_name(const NavdConfig& config);
 
 /// Checks NavdParams ranges; the error names the field and the value.

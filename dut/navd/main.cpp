@@ -161,8 +161,11 @@ int run(int argc, char** argv) {
   std::string modem_spec;
   const CLI::Option* modem_option = app.add_option("--modem", modem_spec,
                  "acoustic modem line PATH[@BAUD] (BAUD default 9600): $PNVBPOS position "
-                 "reports out every modem_period_s, other vehicles' reports in (see below)");
-  app.add_option("--vehicle-id", opt.vehicle_id, "this vehicle's id in its $PNVBPOS reports")
+                 "reports (navigator p2: binary state reports) out every modem_period_s, "
+                 "other vehicles' reports in (see below)");
+  app.add_option("--vehicle-id", opt.vehicle_id,
+                 "this vehicle's id in its $PNVBPOS reports (navigator p2: in its state "
+                 "reports, 1..p2_vehicles, and the acoustic address of its iUSBL pings)")
       ->capture_default_str()
       ->check(CLI::Range(0, 255));
   app.add_option("--can", opt.can_iface,
@@ -251,6 +254,14 @@ int run(int argc, char** argv) {
     config = *loaded;
   }
   config.p1.seed = seed;
+  if (config.navigator == nav::dut::NavigatorKind::kP2 &&
+      (opt.vehicle_id < 1 || opt.vehicle_id > config.p2.vehicles)) {
+    std::fprintf(stderr,
+                 "navd: navigator p2: --vehicle-id %d is not one of the p2_vehicles ids 1..%d "
+                 "(see navd --help)\n",
+                 opt.vehicle_id, config.p2.vehicles);
+    return kExitUsage;
+  }
 
   std::signal(SIGPIPE, SIG_IGN);
   // Caught from here on: a SIGTERM while the ports open stops navd at its first wake-up,

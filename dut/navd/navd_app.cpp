@@ -121,6 +121,9 @@ NavdApp::NavdApp(boost::asio::io_context& io, boost::asio::signal_set& signals,
                                    units::deg_to_rad(params.origin_lon_deg),
                                    -params.origin_depth_m};
     p1_nav_.emplace(std::move(*nav), origin, config.p1.max_dt_s);
+  } else if (config.navigator == NavigatorKind::kP2) {
+    // main() checked the config and that --vehicle-id is one of the p2 vehicles.
+    p2_nav_.emplace(params, config.attitude, config.p2, options.vehicle_id);
   } else {
     gps_nav_.emplace(params, config.attitude);
   }
@@ -128,8 +131,12 @@ NavdApp::NavdApp(boost::asio::io_context& io, boost::asio::signal_set& signals,
     modem_ = std::move(modem);
     modem_watch_.emplace(io, modem_->fd());
     modem_open_ = true;
-    modem_link_.emplace(static_cast<std::uint8_t>(options.vehicle_id),
-                        config.navd.modem_period_s, kInputBufferBytes);
+    const auto id = static_cast<std::uint8_t>(options.vehicle_id);
+    if (p2_nav_) {
+      state_link_.emplace(id, config.navd.modem_period_s, kInputBufferBytes);
+    } else {
+      modem_link_.emplace(id, config.navd.modem_period_s, kInputBufferBytes);
+    }
   }
   extras_.reserve(extras.size());
   for (auto& e : extras) {
@@ -158,6 +165,7 @@ void NavdApp::handle_keller_answers() {
                                                  params_.depth_density_kgpm3);
         if (gps_nav_) gps_nav_->add_depth(depth_m);
         if (dvl_nav_) dvl_nav_->add_depth(depth_m);
+        if (p2_nav_) p2_nav_->add_depth(depth_m);
       }
     }
   }
@@ -167,41 +175,56 @@ void NavdApp::handle_dvl_velocities() {
   for (auto& e : extras_) {
     if (!e.input.is_dvl()) continue;
     const auto v = e.input.take_velocity();
-    if (v && dvl_nav_) dvl_nav_->add_dvl_velocity(Vec3((*v)[0], (*v)[1], (*v)[2]));
+    if (!v) continue;
+    const Vec3 v_b((*v)[0], (*v)[1], (*v)[2]);
+    if (dvl_nav_) dvl_nav_->add_dvl_velocity(v_b);
+    if (p2_nav_) p2_nav_->add_dvl_velocity(v_b);
   }
+}
+
+void NavdApp::handle_p2() {
+  for (auto& e : extras_) {
+    for (const auto& f : e.input.take_relative_fixes()) {
+      if (p2_nav_) p2_nav_->on_fix(f.position, f.attitude);
+    }
+  }
+  for (const auto& r : reports_) {
+    if (p2_nav_) p2_nav_->on_report(r);
+  }
+  reports_.clear();
 }
 
 estimator::NavSolution NavdApp::nav_solution() const {
   if (p1_nav_) return p1_nav_->solution();
+  if (p2_nav_) return p2_nav_->solution();
   return gps_nav_ ? gps_nav_->solution() : dvl_nav_->solution();
 }
 
 estimator::AttitudeStatus NavdApp::attitude_status() const {
   if (p1_nav_) return estimator::AttitudeStatus::kOk;  // P1 navigators count their faults
+  if (p2_nav_) return p2_nav_->navigation().last_attitude_status();
   return gps_nav_ ? gps_nav_->last_attitude_status() : dvl_nav_->last_attitude_status();
 }
 
-void NavdApp::write_modem(const std::string& sentence) {
-  if (sentence.empty()) return;
-  bool whole = false;
-  if (modem_open_) {
-    // One report every modem_period_s (~60 bytes): the line takes it unless nobody reads it
-    // (or a real modem stopped reading its serial side). Never wait: a short write garbles
-    // this report only (receivers drop it by checksum), and it counts as dropped.
-    const auto bytes = std::span(reinterpret_cast<const std::uint8_t*>(sentence.data()),
-                                 sentence.size());
-    const auto n = modem_->write_some(bytes);
-    if (!n) {
-      std::fprintf(stderr, "navd: modem closed: %s\n", n.error().detail.c_str());
-      modem_open_ = false;
-    } else {
-      whole = *n == sentence.size();
-    }
+bool NavdApp::write_modem(protocols::ByteSpan report) {
+  if (!modem_open_) return false;
+  // One report every modem_period_s (~60 bytes): the line takes it unless nobody reads it
+  // (or a real modem stopped reading its serial side). Never wait: a short write garbles
+  // this report only (receivers drop it by checksum or CRC), and it counts as dropped.
+  const auto n = modem_->write_some(report);
+  if (!n) {
+    std::fprintf(stderr, "navd: modem closed: %s\n", n.error().detail.c_str());
+    modem_open_ = false;
+    return false;
   }
-  modem_link_->on_written(whole);
+  return *n == report.size();
 }
 
 void NavdApp::handle_modem_bytes(protocols::ByteSpan bytes) {
+  if (state_link_) {
+    for (auto& r : state_link_->feed(bytes)) reports_.push_back(r);
+    return;
+  }
   for (const auto& p : modem_link_->feed(bytes)) {
     std::fprintf(stderr,
                  "navd: modem peer %u t=%.3f s lat=%.6f lon=%.6f depth=%.2f m std=%.1f m\n",
@@ -240,73 +263,6 @@ void NavdApp::read_port(transport::SerialPort& port, bool& open, Sink&& sink) {
   }
 }
 
-void NavdApp::handle_gps(const protocols::nmea::Sentence& s) {
-  namespace nmea = protocols::nmea;
-  if (s.type == "GGA") {
-    const auto gga = nmea::decode_gga(s);
-    if (!gga) {
-      ++gps_counts_.bad_fields;
-      return;
-    }
-    ++gps_counts_.gga;
-    if (gga->quality == 0) {
-      ++gps_counts_.no_fix;
-      return;
-    }
-    if (!gga->lat_deg || !gga->lon_deg || !gga->alt_msl_m) {
-      ++gps_counts_.incomplete;
-      return;
-    }
-    estimator::GpsPosition fix;
-    fix.position.lat_rad = units::deg_to_rad(*gga->lat_deg);
-    fix.position.lon_rad = units::deg_to_rad(*gga->lon_deg);
-    fix.position.alt_m = *gga->alt_msl_m;
-    if (gps_nav_) gps_nav_->add_gps_position(fix);
-    if (p1_nav_) p1_nav_->add_gps_position(fix);
-  } else if (s.type == "RMC") {
-    const auto rmc = nmea::decode_rmc(s);
-    if (!rmc) {
-      ++gps_counts_.bad_fields;
-      return;
-    }
-    ++gps_counts_.rmc;
-    if (!rmc->valid) {
-      ++gps_counts_.no_fix;
-      return;
-    }
-    if (!rmc->sog_kn || !rmc->cog_deg) {
-      ++gps_counts_.incomplete;  // receivers leave COG empty when barely moving
-      return;
-    }
-    estimator::GpsVelocity fix;
-    fix.sog_mps = *rmc->sog_kn * units::kKnotToMps;
-    fix.cog_rad = units::deg_to_rad(*rmc->cog_deg);
-    if (gps_nav_) gps_nav_->add_gps_velocity(fix);
-  } else if (s.type == "VTG") {
-    // Counted only: RMC supplies SOG/COG, and a receiver sending both would fuse twice.
-    if (nmea::decode_vtg(s)) {
-      ++gps_counts_.vtg;
-    } else {
-      ++gps_counts_.bad_fields;
-    }
-  } else if (s.type == "HDT") {
-    if (const auto hdt = nmea::decode_hdt(s)) {
-      ++gps_counts_.hdt;
-      if (hdt->heading_deg) last_heading_deg_ = hdt->heading_deg;
-    } else {
-      ++gps_counts_.bad_fields;
-    }
-  } else if (s.type == "ZDA") {
-    if (nmea::decode_zda(s)) {
-      ++gps_counts_.zda;
-    } else {
-      ++gps_counts_.bad_fields;
-    }
-  } else {
-    ++gps_counts_.other;
-  }
-}
-
 bool NavdApp::wait_delay() {
   if (options_.delay_ms <= 0) return true;
   // Sleeping on the io_context keeps SIGTERM prompt even with a long delay. Port handlers
@@ -329,9 +285,20 @@ bool NavdApp::handle_ahrs(const protocols::gx3::AccelRateMag& m) {
   if (gps_nav_) gps_nav_->on_ahrs(to_sample(m));
   if (dvl_nav_) dvl_nav_->on_ahrs(to_sample(m));
   if (p1_nav_) p1_nav_->on_ahrs(to_sample(m));
+  if (p2_nav_) p2_nav_->on_ahrs(to_sample(m));
   const estimator::NavSolution nav = nav_solution();
   // The position report due at this sample, from its estimate, also before its solution.
-  if (modem_link_) write_modem(modem_link_->on_ahrs(m.timer_ticks, nav));
+  if (modem_link_) {
+    const std::string report = modem_link_->on_ahrs(m.timer_ticks, nav);
+    if (!report.empty()) {
+      modem_link_->on_written(write_modem(std::span(
+          reinterpret_cast<const std::uint8_t*>(report.data()), report.size())));
+    }
+  }
+  if (state_link_) {
+    const protocols::Bytes report = state_link_->on_ahrs(m.timer_ticks, p2_nav_->own_report());
+    if (!report.empty()) state_link_->on_written(write_modem(report));
+  }
   auto solution = to_solution(nav, m.timer_ticks, seq_++);
   // A numerical fault of the attitude filter at this sample (recovered) is reported.
   if (attitude_status() == estimator::AttitudeStatus::kNumericalFault) {
@@ -347,6 +314,12 @@ bool NavdApp::handle_ahrs(const protocols::gx3::AccelRateMag& m) {
     stated = solution_innovations(m.timer_ticks, p1_nav_->innovations());
     if (const auto cov = solution_covariance(m.timer_ticks, p1_nav_->p1_solution())) {
       stated += protocols::navd::encode(*cov);
+    }
+  } else if (p2_nav_) {
+    stated = solution_innovations(m.timer_ticks, p2_nav_->navigation().innovations());
+    if (solution.status != "DEGRADED") {
+      const auto cov = solution_covariance(m.timer_ticks, p2_nav_->position_covariance());
+      if (cov) stated += protocols::navd::encode(*cov);
     }
   } else if (solution.status != "DEGRADED") {
     stated = solution_innovations(
@@ -414,7 +387,8 @@ void NavdApp::handle_wake() {
   }
   // CAN frames are decoded and counted as they are read (not fused): before any AHRS packet.
   if (can_watch_ && can_watch_->take(Wait::wait_read)) read_can();
-  // Peer reports are only counted, kept and logged: their order against AHRS is moot.
+  // $PNVBPOS are only counted, kept and logged: their order against AHRS is moot. State
+  // reports (p2) wait for handle_p2(), after the iUSBL fixes of this wake.
   if (modem_watch_ && modem_watch_->take(Wait::wait_read)) {
     read_port(*modem_, modem_open_, [this](protocols::ByteSpan b) { handle_modem_bytes(b); });
   }
@@ -422,6 +396,7 @@ void NavdApp::handle_wake() {
   for (const auto& s : gps_msgs_) handle_gps(s);
   handle_keller_answers();
   handle_dvl_velocities();
+  handle_p2();
   for (const auto& m : ahrs_msgs_) {
     if (!handle_ahrs(m)) return;
   }

@@ -6,6 +6,7 @@
 //                 ──DVL/USBL/..─▶ [--input]  ─┤
 //   Keller (polled) ◀─requests─▶ [--input]   ─┤
 //   other vehicles ◀─$PNVBPOS──▶ [--modem]   ─┼─ io.run_one(); io.poll() ─▶ wake (every
+//                  (p2: state reports)        │
 //   N2K, wheel encoders ─frames─▶ [--can]    ─┤  handler ready then has run):
 //   SIGTERM/SIGINT ────────────▶ [signal_set]─┤ 1. read every port marked ready until EAGAIN,
 //   hang-up, room for output ──▶ [output]    ─┘    trigger port (AHRS) first, then GPS,
@@ -19,7 +20,9 @@
 //                                                  (gps-ins navigator), then every Keller
 //                                                  answer → its poller → depth queue, then
 //                                                  the last DVL velocity of each DVL input
-//                                                  → dead reckoning (dvl navigator)
+//                                                  → dead reckoning (dvl, p2 navigators),
+//                                                  then (p2) every iUSBL fix, then every
+//                                                  state report heard
 //                                               3. every decoded 0xCB packet, in arrival
 //                                                  order: Keller requests due at its timer
 //                                                  → [keller tty], navigator step
@@ -74,6 +77,8 @@
 #include "nav/transport/can_socket.hpp"
 #include "nav/transport/serial_port.hpp"
 #include "output_queue.hpp"
+#include "p2_navigator.hpp"
+#include "state_link.hpp"
 #include "stream_decoder.hpp"
 
 namespace nav::dut {
@@ -205,20 +210,28 @@ class NavdApp {
   /// Hands every decoded Keller answer to its poller; P1 values become queued depths.
   void handle_keller_answers();
   std::vector<Extra> extras_;  ///< in command-line order
-  /// Writes a $PNVBPOS to the modem without blocking (not taken whole: dropped, counted).
-  void write_modem(const std::string& sentence);
-  /// Decodes modem bytes; logs every peer report heard (one line each on stderr).
+  /// Writes a report to the modem without blocking; true when the line took it whole (else
+  /// it is dropped: receivers reject its remains by checksum).
+  bool write_modem(protocols::ByteSpan report);
+  /// Decodes modem bytes: logs every $PNVBPOS heard (one line each on stderr), or keeps the
+  /// state reports heard for handle_p2().
   void handle_modem_bytes(protocols::ByteSpan bytes);
+  /// navigator p2: the iUSBL fixes of this wake, then the state reports heard in it (a fix
+  /// waits for the report covering it: p2_navigator.hpp). Other navigators drop the fixes.
+  void handle_p2();
   std::optional<transport::SerialPort> modem_;
   std::optional<DescriptorWatch> modem_watch_;  ///< read; set with modem_
   bool modem_open_ = false;
-  std::optional<ModemLink> modem_link_;  ///< set with modem_
+  std::optional<ModemLink> modem_link_;  ///< set with modem_, but for navigator p2
+  std::optional<StateLink> state_link_;  ///< set with modem_ for navigator p2
+  std::vector<protocols::navd_state::StateReport> reports_;  ///< heard in this wake-up
   OutputQueue out_;
   estimator::FilterParams params_;
-  /// Exactly one of the two is set, by the config's `navigator`.
+  /// Exactly one navigator is set, by the config's `navigator`.
   std::optional<estimator::Navigator> gps_nav_;
   std::optional<estimator::DvlNavigator> dvl_nav_;
   std::optional<estimator::P1Driver> p1_nav_;  ///< navigator: ins, ekf15, upf15, mfins (paper P1)
+  std::optional<P2Navigator> p2_nav_;          ///< navigator: p2 (paper P2)
   /// The estimate of whichever navigator runs.
   estimator::NavSolution nav_solution() const;
   /// Status of the last attitude step of whichever navigator runs.

@@ -42,6 +42,10 @@ std::string NavdApp::stats_line(const std::string& reason) const {
     s += "; modem{" + modem_link_->counters_text() +
          " id=" + std::to_string(modem_link_->vehicle_id()) + "}";
   }
+  if (state_link_) {
+    s += "; modem{" + state_link_->counters_text() +
+         " id=" + std::to_string(state_link_->vehicle_id()) + "}";
+  }
   if (can_) {
     s += "; can{iface=" + can_->socket.ifname() + " " + can_->input.counters_text() + "}";
   }
@@ -75,7 +79,8 @@ std::string NavdApp::stats_line(const std::string& reason) const {
          " depth_rejected=" + std::to_string(nav.depth_rejected_invalid) +
          " numerical_faults=" + std::to_string(nav.numerical_faults);
   } else {
-    const auto& nav = dvl_nav_->stats();
+    const estimator::DvlNavigator& dr = p2_nav_ ? p2_nav_->navigation() : *dvl_nav_;
+    const auto& nav = dr.stats();
     s += "; dead_reckoning ahrs_invalid=" + std::to_string(nav.ahrs_rejected_invalid) +
          " dt_resets=" + std::to_string(nav.dt_resets) +
          " dvl_used=" + std::to_string(nav.dvl_used) +
@@ -84,9 +89,28 @@ std::string NavdApp::stats_line(const std::string& reason) const {
          " stale_samples=" + std::to_string(nav.stale_samples) +
          " depth_used=" + std::to_string(nav.depth_used) +
          " depth_rejected=" + std::to_string(nav.depth_rejected_invalid);
+    if (p2_nav_) {
+      const P2NavigatorCounts& c = p2_nav_->counts();
+      const estimator::P2TimedCounters f = p2_nav_->filter().counters();
+      s += " gps_used=" + std::to_string(nav.gps_used) +
+           " gps_ignored=" + std::to_string(nav.gps_ignored) +
+           "; p2 fixes=" + std::to_string(c.fixes) + " fused=" + std::to_string(f.fixes_fused) +
+           " refused=" + std::to_string(f.fixes_refused) +
+           " bad=" + std::to_string(c.fixes_bad) + " unknown=" + std::to_string(c.fixes_unknown) +
+           " early=" + std::to_string(c.fixes_early) +
+           " behind_report=" + std::to_string(c.fixes_behind_report) +
+           " unmatched=" + std::to_string(c.fixes_unmatched) +
+           " reports=" + std::to_string(c.reports) +
+           " reports_unknown=" + std::to_string(c.reports_unknown) +
+           " reports_partial=" + std::to_string(c.reports_partial) +
+           " reports_stale=" + std::to_string(c.reports_stale) +
+           " reordered=" + std::to_string(f.reordered) +
+           " too_late=" + std::to_string(f.too_late) + " invalid=" + std::to_string(f.invalid);
+    }
   }
   const estimator::AttitudeFilter& att =
-      gps_nav_ ? gps_nav_->attitude() : dvl_nav_->attitude();
+      gps_nav_ ? gps_nav_->attitude()
+               : (p2_nav_ ? p2_nav_->navigation().attitude() : dvl_nav_->attitude());
   const estimator::AttitudeStats& a = att.stats();
   s += "; attitude " + std::string(estimator::attitude_filter_name(att.kind())) +
        " steps=" + std::to_string(a.steps) +

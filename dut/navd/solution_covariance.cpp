@@ -51,6 +51,16 @@ std::optional<protocols::navd::SolutionCovariance> solution_covariance(
   return c;
 }
 
+std::optional<protocols::navd::SolutionCovariance> solution_covariance(
+    std::uint64_t tag, const std::optional<Mat3>& P_position_n) {
+  if (!P_position_n) return std::nullopt;
+  protocols::navd::SolutionCovariance c;
+  c.trigger_tag = tag;
+  c.position = block(*P_position_n, 1.0);
+  if (!c.position) return std::nullopt;
+  return c;
+}
+
 std::string solution_innovations(std::uint64_t tag,
                                  const std::vector<estimator::Innovation>& updates) {
   std::string out;

@@ -31,6 +31,11 @@ std::optional<protocols::navd::SolutionCovariance> solution_covariance(
 std::optional<protocols::navd::SolutionCovariance> solution_covariance(
     std::uint64_t tag, const estimator::P1Solution& p1);
 
+/// The covariance of a navigator that states its position's only (paper P2: the own block of
+/// the joint state) [m²]; nullopt without one, or when it cannot be stated.
+std::optional<protocols::navd::SolutionCovariance> solution_covariance(
+    std::uint64_t tag, const std::optional<Mat3>& P_position_n);
+
 /// The `$PNVBINN` sentences of the updates made at the sample answering `tag`, one after
 /// another (empty when none): angles in degrees and fields in µT, the rest in the estimator's
 /// SI units. An update whose ν or S is not finite, or S with a negative variance, is left

@@ -56,13 +56,42 @@ TEST(NavdConfig, UnknownChoicesAreLocatedAndListTheValidNames) {
                    "ukf, cf, eskf)");
   const auto n = load_config(write_config("navigator: usbl\n"));
   ASSERT_FALSE(n.has_value());
-  EXPECT_NE(n.error().detail.find(":1:12: unknown navigator 'usbl' (expected gps-ins, dvl or a "
-                                  "paper P1 navigator: ins, ekf15, upf15, mfins"),
+  EXPECT_NE(n.error().detail.find(":1:12: unknown navigator 'usbl' (expected gps-ins, dvl, p2 "
+                                  "or a paper P1 navigator: ins, ekf15, upf15, mfins"),
             std::string::npos)
       << n.error().detail;
   const auto m = load_config(write_config("attitude_filter: [ekf]\n"));
   ASSERT_FALSE(m.has_value());
   EXPECT_NE(m.error().detail.find("'attitude_filter' expects a name"), std::string::npos);
+}
+
+TEST(NavdConfig, SelectsPaperP2AndItsParameters) {
+  const auto c = load_config(write_config(
+      "navigator: p2\np2_vehicles: 4\np2_experiment: 2\np2_bearing_std_rad: 0.02\n"
+      "p2_process_noise_heading_rad_rts: 0.001\np2_timer_start_ticks: 62500\n"));
+  ASSERT_TRUE(c.has_value()) << c.error().detail;
+  EXPECT_EQ(c->navigator, NavigatorKind::kP2);
+  EXPECT_EQ(navigator_name(*c), "p2");
+  EXPECT_EQ(c->p2.vehicles, 4);
+  EXPECT_EQ(c->p2.experiment, 2);
+  EXPECT_DOUBLE_EQ(c->p2.filter.observation_std[2], 0.02);
+  EXPECT_DOUBLE_EQ(c->p2.filter.process_noise_rthz(3), 0.001);
+  EXPECT_DOUBLE_EQ(c->p2.timer_start_ticks, 62500.0);
+  // Values out of range, or not whole where a count is wanted, are located and named.
+  const std::pair<const char*, const char*> bad[] = {
+      {"p2_vehicles: 1\n", ":1:14: p2_vehicles: p2_vehicles must be a whole number in [2, 8]"},
+      {"p2_vehicles: 2.5\n", ":1:14: p2_vehicles: p2_vehicles must be a whole number"},
+      {"p2_experiment: 5\n", ":1:16: p2_experiment: p2_experiment must be 1, 2, 3 or 4"},
+      {"p2_pitch_std_rad: 0\n", "p2_pitch_std_rad: the standard deviation of pitch must be"},
+      {"p2_timer_start_ticks: -1\n", "p2_timer_start_ticks must be a whole number in [0, "},
+      {"p2_history_s: 4000\n", "p2_history_s: history_s must be in (0, 3600] s"},
+      {"p2_experiment: [3]\n", "'p2_experiment' expects a number"},
+  };
+  for (const auto& [text, expected] : bad) {
+    const auto r = load_config(write_config(text));
+    ASSERT_FALSE(r.has_value()) << text;
+    EXPECT_NE(r.error().detail.find(expected), std::string::npos) << r.error().detail;
+  }
 }
 
 TEST(NavdConfig, SelectsAPaperP1NavigatorAndItsParameters) {
