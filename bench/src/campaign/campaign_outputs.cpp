@@ -127,6 +127,16 @@ std::optional<int> write_campaign_outputs(const fs::path& dir, const CampaignPla
     table_scenarios.emplace_back(plan.cell_name(c), std::move(labels));
   }
   const auto rows = comparison_rows(table_scenarios, runs);
+  // Every vehicle of the multi-vehicle cells, against the first variant of the scenario.
+  std::vector<VehicleCell> vehicle_cells;
+  for (std::size_t c = 0; c < plan.cells(); ++c) {
+    const std::size_t baseline = plan.scenario_of(c);  // the cell of variant 0
+    vehicle_cells.push_back({plan.cell_name(c), plan.variant_name(c),
+                             plan.variants.size() > 1 && baseline != c ? plan.cell_name(baseline)
+                                                                       : std::string()});
+  }
+  const auto vehicles = vehicle_rows(vehicle_cells, runs);
+  const std::string vehicles_md = vehicle_markdown(vehicles);
   const auto verdicts = judge_campaign_checks(plan, results);
   std::string checks_text, checks_md;
   for (const auto& v : verdicts) {
@@ -161,7 +171,11 @@ std::optional<int> write_campaign_outputs(const fs::path& dir, const CampaignPla
     nis_md += "| " + n.cell + " | " + n.block + " | " + (none ? "-" : std::to_string(n.dof)) +
               " | " + n.text + " |\n";
   }
-  const std::string table = comparison_markdown(rows);
+  const std::string table =
+      comparison_markdown(rows) +
+      (vehicles_md.empty() ? ""
+                           : "\nEvery vehicle's mean position error (time average of the 3-D "
+                             "error of its solutions):\n\n" + vehicles_md);
   const std::string stdout_text =
       table + (checks_text.empty() ? "" : "\nCampaign checks:\n" + checks_text) +
       (pairs_text.empty() ? "" : "\nVariants paired by seed:\n" + pairs_text) +
@@ -245,6 +259,16 @@ std::optional<int> write_campaign_outputs(const fs::path& dir, const CampaignPla
                                {"endpoint_vertical_m", stats(row.endpoint_vertical)},
                                {"mean_position_error_m", stats(row.mean_position)},
                                {"mean_attitude_error_deg", stats(row.mean_attitude)}});
+  }
+  j["vehicles"] = json::array();
+  for (const auto& v : vehicles) {
+    j["vehicles"].push_back(
+        {{"scenario", v.cell},
+         {"variant", v.variant.empty() ? json(nullptr) : json(v.variant)},
+         {"vehicle", v.vehicle},
+         {"mean_position_error_m", stats(v.mean_position)},
+         {"baseline", v.baseline.empty() ? json(nullptr) : json(v.baseline)},
+         {"improvement_pct", v.improvement_pct ? json(*v.improvement_pct) : json(nullptr)}});
   }
   j["campaign_checks"] = json::array();
   for (const auto& v : verdicts) j["campaign_checks"].push_back(verdict_json(v));

@@ -41,6 +41,11 @@ nlohmann::ordered_json result_json(const CampaignResult& r) {
                   {"endpoint_vertical_m", opt(r.figures.endpoint_vertical_m)},
                   {"mean_position_error_m", opt(r.figures.mean_position_m)},
                   {"mean_attitude_error_deg", opt(r.figures.mean_attitude_deg)}};
+  auto& per_vehicle = j["figures"]["vehicle_mean_position_error_m"];
+  per_vehicle = nlohmann::ordered_json::array();
+  for (const auto& [name, value] : r.figures.vehicle_mean_position_m) {
+    per_vehicle.push_back({{"vehicle", name}, {"m", value}});
+  }
   j["checks"] = nlohmann::ordered_json::array();
   for (const auto& c : r.checks) {
     j["checks"].push_back({{"name", c.name},
@@ -66,6 +71,13 @@ RunFigures run_figures_from_summary(const nlohmann::json& summary) {
   figure("vertical_error_m", "final", f.endpoint_vertical_m);
   figure("position_error_m", "mean", f.mean_position_m);
   figure("attitude_error_deg", "mean", f.mean_attitude_deg);
+  for (const auto& each : vehicles) {
+    const auto& name = json_at(each, "name");
+    const auto& mean = json_at(json_at(each, "position_error_m"), "mean");
+    if (name.is_string() && mean.is_number()) {
+      f.vehicle_mean_position_m.emplace_back(name.get<std::string>(), mean.get<double>());
+    }
+  }
   return f;
 }
 
@@ -121,6 +133,14 @@ Result<CampaignResult> result_from_json(const nlohmann::json& j, const std::stri
   figure("endpoint_vertical_m", r.figures.endpoint_vertical_m);
   figure("mean_position_error_m", r.figures.mean_position_m);
   figure("mean_attitude_error_deg", r.figures.mean_attitude_deg);
+  // Absent in results of older navbench versions: none.
+  for (const auto& v : json_at(fig, "vehicle_mean_position_error_m")) {
+    if (!json_at(v, "vehicle").is_string() || !json_at(v, "m").is_number()) {
+      return bad("\"vehicle_mean_position_error_m\" needs \"vehicle\" and \"m\"");
+    }
+    r.figures.vehicle_mean_position_m.emplace_back(json_at(v, "vehicle").get<std::string>(),
+                                                   json_at(v, "m").get<double>());
+  }
   for (const auto& c : json_at(j, "checks")) {
     if (!json_at(c, "name").is_string() || !json_at(c, "passed").is_boolean()) {
       return bad("a check needs \"name\" and \"passed\"");

@@ -125,7 +125,9 @@ void DvlNavigator::on_ahrs(const AhrsSample& s) {
   }
 
   if (queued_fix_) {
-    p_n_ = plane_.to_ned(*queued_fix_);  // (D4) the start
+    // (D4) the start; a depth sensor's down position beats the fix's altitude
+    const Vec3 p_fix = plane_.to_ned(*queued_fix_);
+    p_n_ = stats_.depth_used > 0 ? Vec3(p_fix.x(), p_fix.y(), p_n_.z()) : p_fix;
     queued_fix_.reset();
     started_ = true;
     ++stats_.gps_used;

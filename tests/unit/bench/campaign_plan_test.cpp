@@ -217,6 +217,7 @@ CampaignResult a_result() {
   r.endpoint_error_m = 0.123456789012345;
   r.figures.endpoint_horizontal_m = 0.1;
   r.figures.mean_attitude_deg = 1.0 / 3.0;
+  r.figures.vehicle_mean_position_m = {{"alpha", 1.0 / 7.0}, {"bravo", 2.5}};
   r.wall_time_s = 2.5;
   r.host = "node-1";
   r.finished_utc = "2026-12-02T21:10:00Z";
@@ -246,6 +247,11 @@ TEST(CampaignResult, ReadsBackAsWritten) {
   const auto refused = result_from_json(bad_files, "result.json");
   ASSERT_FALSE(refused);
   EXPECT_NE(refused.error().detail.find("dut_files_sha256"), std::string::npos);
+  nlohmann::json bad_vehicle = nlohmann::json::parse(result_json(r).dump());
+  bad_vehicle["figures"]["vehicle_mean_position_error_m"][1].erase("m");
+  const auto no_value = result_from_json(bad_vehicle, "result.json");
+  ASSERT_FALSE(no_value);
+  EXPECT_NE(no_value.error().detail.find("vehicle_mean_position_error_m"), std::string::npos);
 }
 
 TEST(CampaignResult, OneWrittenBeforeTheDutsFilesWereHashedNamesNoneAndDiffers) {

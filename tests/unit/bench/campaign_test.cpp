@@ -179,12 +179,53 @@ TEST(RunFiguresFromSummary, ReadsThePrimaryVehiclesFigures) {
          {"attitude_error_deg", nullptr}},
         {{"name", "peer"}, {"horizontal_error_m", {{"final", 99.0}}}}}}};
   const RunFigures f = run_figures_from_summary(s);
+  // Every vehicle's mean position error, the ones that judged no solution left out.
+  EXPECT_EQ(f.vehicle_mean_position_m,
+            (std::vector<std::pair<std::string, double>>{{"rig", 1.25}}));
   EXPECT_EQ(f.endpoint_horizontal_m, 2.5);
   EXPECT_EQ(f.endpoint_vertical_m, 0.75);
   EXPECT_EQ(f.mean_position_m, 1.25);
   EXPECT_FALSE(f.mean_attitude_deg);  // no solution judged: null in the summary
   EXPECT_EQ(run_figures_from_summary(nlohmann::json::object()), RunFigures{});
   EXPECT_EQ(run_figures_from_summary(nlohmann::json{{"vehicles", 3}}), RunFigures{});
+}
+
+CampaignRun fleet_run(const std::string& cell, int exit_code,
+                      std::vector<std::pair<std::string, double>> vehicles) {
+  CampaignRun r = run(cell, 1, exit_code, std::nullopt);
+  r.figures.vehicle_mean_position_m = std::move(vehicles);
+  return r;
+}
+
+TEST(VehicleRows, EveryVehicleAndTheirMeanAgainstTheBaselineVariant) {
+  const std::vector<VehicleCell> cells{{"pair-nav", "nav", ""},
+                                       {"pair-fix", "fix", "pair-nav"},
+                                       {"solo-nav", "nav", ""}};
+  const std::vector<CampaignRun> runs{
+      fleet_run("pair-nav", 1, {{"a", 10.0}, {"b", 30.0}}),
+      fleet_run("pair-nav", 0, {{"a", 14.0}, {"b", 34.0}}),
+      fleet_run("pair-fix", 0, {{"a", 9.0}, {"b", 11.0}}),
+      fleet_run("pair-fix", 4, {{"a", 0.0}, {"b", 0.0}}),  // crashed: not counted
+      fleet_run("solo-nav", 0, {{"rig", 1.0}})};           // one vehicle: no rows
+  const auto rows = vehicle_rows(cells, runs);
+  ASSERT_EQ(rows.size(), 6u);
+  EXPECT_EQ(rows[0].vehicle, "a");
+  EXPECT_DOUBLE_EQ(rows[0].mean_position.mean, 12.0);
+  EXPECT_FALSE(rows[0].improvement_pct);  // the baseline itself
+  EXPECT_EQ(rows[2].vehicle, "all");
+  EXPECT_DOUBLE_EQ(rows[2].mean_position.mean, 22.0);  // runs' means 20 and 24
+  EXPECT_EQ(rows[3].cell, "pair-fix");
+  EXPECT_EQ(rows[3].mean_position.n, 1u);
+  EXPECT_DOUBLE_EQ(*rows[3].improvement_pct, 100.0 * (12.0 - 9.0) / 12.0);
+  EXPECT_DOUBLE_EQ(*rows[4].improvement_pct, 100.0 * (32.0 - 11.0) / 32.0);
+  EXPECT_DOUBLE_EQ(*rows[5].improvement_pct, 100.0 * (22.0 - 10.0) / 22.0);
+  const std::string md = vehicle_markdown(rows);
+  EXPECT_NE(md.find("| pair-fix | fix | b | 1 | 11.000 ± — | +65.6 % (vs pair-nav) |"),
+            std::string::npos)
+      << md;
+  // Single-vehicle campaigns have no such table.
+  EXPECT_TRUE(vehicle_rows({{"solo-nav", "", ""}}, runs).empty());
+  EXPECT_EQ(vehicle_markdown({}), "");
 }
 
 TEST(CampaignExitCode, WorstWins) {

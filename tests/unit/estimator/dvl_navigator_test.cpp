@@ -87,6 +87,22 @@ TEST(DvlNavigator, StartedByGpsIsInvalidUntilTheFirstFixWhichSetsThePosition) {
   EXPECT_EQ(nav.stats().gps_ignored, 2u);
 }
 
+TEST(DvlNavigator, AGpsStartKeepsTheDepthSensorsDownPosition) {
+  DvlNavigator nav(pool_params(), AttitudeFilterKind::kMahony, DvlStart::kFirstGpsFix);
+  nav.on_ahrs(static_sample(Quat::Identity(), 0));
+  nav.add_depth(3.0);
+  nav.on_ahrs(static_sample(Quat::Identity(), kTicks20Hz));
+  const geodesy::LocalTangentPlane plane(
+      {36.3833 * kDeg, 127.36 * kDeg, -pool_params().origin_depth_m});
+  GpsPosition fix;
+  fix.position = plane.to_geodetic(Vec3(4.0, 5.0, -2.0));  // the fix's altitude is 2 m off
+  nav.add_gps_position(fix);
+  nav.on_ahrs(static_sample(Quat::Identity(), 2 * kTicks20Hz));
+  EXPECT_NEAR(nav.solution().p_n.x(), 4.0, 1e-6);
+  EXPECT_NEAR(nav.solution().p_n.y(), 5.0, 1e-6);
+  EXPECT_NEAR(nav.solution().p_n.z(), 3.0 - 1.5, 1e-9);  // depth − origin_depth_m (D3)
+}
+
 TEST(DvlNavigator, StartedAtTheOriginIgnoresGps) {
   DvlNavigator nav(pool_params(), AttitudeFilterKind::kMahony);
   GpsPosition fix;

@@ -161,6 +161,37 @@ std::string comparison_csv(const std::vector<ComparisonRow>& rows);
 /// position [m] and attitude [deg] errors, with 3 decimals; an undefined value is "—".
 std::string comparison_markdown(const std::vector<ComparisonRow>& rows);
 
+/// A cell of the per-vehicle table: its name (a run's CampaignRun::scenario), its variant
+/// ("" without variants) and the cell its improvement is measured against ("" for none: the
+/// baseline itself, or no variants).
+struct VehicleCell {
+  std::string name;
+  std::string variant;
+  std::string baseline;
+};
+
+/// One row of the per-vehicle table: one vehicle of one cell (or `all`: per run the mean over
+/// its vehicles) over the finished runs that reached the end.
+struct VehicleRow {
+  std::string cell;
+  std::string variant;
+  std::string vehicle;         ///< a vehicle's name, or "all"
+  SampleStats mean_position;   ///< the runs' time-averaged 3-D position errors [m]
+  std::string baseline;        ///< the baseline cell, "" for none
+  /// 100 (b − m) / b for the means m of this row and b of the same vehicle in the baseline
+  /// cell [%]: positive is better; none without a baseline or a mean on either side.
+  std::optional<double> improvement_pct;
+};
+
+/// Rows of every cell whose runs judged two vehicles or more (cells in the order given, then
+/// each vehicle in the runs' order, then `all`); empty when no cell has several vehicles.
+std::vector<VehicleRow> vehicle_rows(const std::vector<VehicleCell>& cells,
+                                     const std::vector<CampaignRun>& runs);
+
+/// A markdown table: scenario, variant, vehicle, runs, mean position error "mean ± std" [m],
+/// improvement over the baseline [%] ("—" for none); empty for no rows.
+std::string vehicle_markdown(const std::vector<VehicleRow>& rows);
+
 /// The value [m] of the check named check_name in a run's summary.json, when that check was
 /// judged and measured something (a check with no solution to judge failed with value 0).
 std::optional<double> endpoint_error_from_summary(const nlohmann::json& summary,

@@ -55,6 +55,9 @@ struct RunFigures {
   std::optional<double> endpoint_vertical_m;    ///< |vertical part| of the final error [m]
   std::optional<double> mean_position_m;        ///< time average of the 3-D position error [m]
   std::optional<double> mean_attitude_deg;      ///< time average of the attitude error [deg]
+  /// Every vehicle's time-averaged 3-D position error, the primary first (summary.json
+  /// `vehicles`): name and value [m]; a vehicle that judged no solution is left out.
+  std::vector<std::pair<std::string, double>> vehicle_mean_position_m;
   bool operator==(const RunFigures&) const = default;
 };
 

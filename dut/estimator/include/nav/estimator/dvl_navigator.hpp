@@ -23,7 +23,8 @@
 // position and attitude are valid from then on. Started with DvlStart::kFirstGpsFix
 // (paper P2's vehicles, which dive from the surface), the position is not valid until the
 // first GPS fix queued by add_gps_position(): at the next AHRS sample it sets p_n (D4, after
-// D0..D3), and the dead reckoning goes on from there; later fixes are counted, not used. No GPS is used: the P0 experiment runs
+// D0..D3; only north and east once a depth has set the down position, D3), and the dead
+// reckoning goes on from there; later fixes are counted, not used. No GPS is used: the P0 experiment runs
 // submerged in a pool. The DVL is assumed aligned with the AHRS (instrument frame = body
 // FRD) with no lever arm, as in the paper. No I/O, no clocks.
 #pragma once
