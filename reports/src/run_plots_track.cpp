@@ -125,11 +125,12 @@ std::string check_kind(const json& c) {
   return get_string(c, "kind").value_or(get_string(c, "name", ""));
 }
 
-json error_plot(const RunFolder& f, const Quantity& q, const json* check,
+/// The plot of one error series against time (t, v, the distance travelled at each t), with
+/// the envelope of `check` when given; `who` prefixes the title ("bravo: ").
+json error_plot(std::vector<double> t, std::vector<double> v, std::vector<double> dist,
+                const Quantity& q, const std::string& who, const json* check,
                 const std::vector<Window>& faults, const std::string& id) {
-  const auto& ts = f.timeseries;
-  std::vector<double> t = ts["t_s"], v = ts[q.column], dist = ts["distance_m"];
-  std::string title = q.name;
+  std::string title = who + q.name;
   if (check) {
     title += ": check " + get_string(*check, "name", "?");
     if (const auto req = get_string(*check, "req")) title += " (" + *req + ")";
@@ -177,6 +178,75 @@ json error_plot(const RunFolder& f, const Quantity& q, const json* check,
                 (faults.empty() ? ")" : "; orange: fault windows)");
   }
   return p;
+}
+
+/// The primary's error `q` from timeseries.csv.
+json error_plot(const RunFolder& f, const Quantity& q, const json* check,
+                const std::vector<Window>& faults, const std::string& id) {
+  const auto& ts = f.timeseries;
+  return error_plot(ts["t_s"], ts[q.column], ts["distance_m"], q, "", check, faults, id);
+}
+
+/// A peer's horizontal and vertical errors at its estimate's times, its truth (TUM, truth_rate)
+/// interpolated linearly between samples; the distance travelled along that truth.
+struct PeerErrors {
+  std::vector<double> t, horizontal, vertical, distance;
+};
+
+PeerErrors peer_errors(const VehicleFiles& v) {
+  PeerErrors out;
+  const auto& truth = v.truth;
+  if (truth.size() < 2) return out;
+  std::vector<double> travelled(truth.size(), 0.0);
+  for (std::size_t k = 1; k < truth.size(); ++k) {
+    travelled[k] = travelled[k - 1] + std::hypot(truth[k].n - truth[k - 1].n,
+                                                 truth[k].e - truth[k - 1].e,
+                                                 truth[k].d - truth[k - 1].d);
+  }
+  std::size_t j = 0;
+  for (const auto& p : v.estimate) {
+    if (p.t_s < truth.front().t_s || p.t_s > truth.back().t_s) continue;
+    while (j + 2 < truth.size() && truth[j + 1].t_s <= p.t_s) ++j;
+    const TumPose& a = truth[j];
+    const TumPose& b = truth[j + 1];
+    const double w = b.t_s > a.t_s ? std::clamp((p.t_s - a.t_s) / (b.t_s - a.t_s), 0.0, 1.0) : 0.0;
+    const auto at = [w](double x, double y) { return x + w * (y - x); };
+    out.t.push_back(p.t_s);
+    out.horizontal.push_back(std::hypot(p.n - at(a.n, b.n), p.e - at(a.e, b.e)));
+    out.vertical.push_back(std::abs(p.d - at(a.d, b.d)));
+    out.distance.push_back(at(travelled[j], travelled[j + 1]));
+  }
+  return out;
+}
+
+/// Each peer's horizontal and vertical error against time, with the envelope of its checks
+/// of those kinds (their anchors go to `out`).
+void add_peer_error_plots(const RunFolder& f, const std::vector<Window>& faults,
+                          PlotSection& errors, RunPlots& out) {
+  const auto& checks = get_array(f.summary, "checks");
+  for (const auto& v : f.vehicles) {
+    if (v.primary || !v.has_truth || !v.has_estimate) continue;
+    const PeerErrors e = peer_errors(v);
+    for (const auto& q : kQuantities) {
+      const std::vector<double>* values = std::string(q.kind) == "horizontal_error" ? &e.horizontal
+                                          : std::string(q.kind) == "vertical_error" ? &e.vertical
+                                                                                     : nullptr;
+      if (values == nullptr) continue;  // the attitude error is the primary's only
+      std::size_t made = 0;
+      for (const auto& c : checks) {
+        if (check_kind(c) != q.kind || get_string(c, "vehicle", "") != v.name) continue;
+        const std::string id = "plot-check-" + std::to_string(&c - &checks[0]);
+        errors.plots.push_back(
+            error_plot(e.t, *values, e.distance, q, v.name + ": ", &c, faults, id));
+        out.check_anchor[get_string(c, "name", "")] = id;
+        ++made;
+      }
+      if (made == 0) {
+        errors.plots.push_back(error_plot(e.t, *values, e.distance, q, v.name + ": ", nullptr,
+                                          faults, "plot-" + v.name + "-" + q.kind));
+      }
+    }
+  }
 }
 
 }  // namespace
@@ -227,6 +297,7 @@ void add_track_plots(const RunFolder& f, RunPlots& out) {
         errors.plots.push_back(error_plot(f, q, nullptr, faults, std::string("plot-") + q.kind));
       }
     }
+    add_peer_error_plots(f, faults, errors, out);
   }
   out.sections.push_back(std::move(errors));
   for (const auto& c : get_array(f.summary, "checks")) {

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // The HTML run report made from a run folder's files: content, escaping, embedded data,
-// size of a long run, and the page's script policy.
+// size of a long run, the page's script policy, and a peer vehicle's error plots.
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -147,6 +147,53 @@ TEST(RunReport, TenMinutesAtOneHundredHertzStaysSmall) {
   // Thinned, yet the worst latency (a spike) is still there.
   const auto plots = embedded_plots(slurp(dir / "report.html"));
   EXPECT_LE((*plot_by_id(plots, "plot-latency-time"))["data"][0].size(), 1000u * 8u);
+}
+
+}  // namespace
+}  // namespace nav::reports
+
+namespace nav::reports {
+namespace {
+
+using namespace testing;
+
+TEST(RunReport, EveryPeerHasItsErrorPlotsWithItsChecksEnvelope) {
+  // GIVEN a run with a peer 'bravo' whose estimate is 3 m east of its truth, judged by its
+  // own horizontal_error check
+  RunRecord r = synthetic_run(60, 20);
+  VehicleTrack bravo;
+  bravo.name = "bravo";
+  bravo.dut_status = r.dut_status;
+  for (const auto& s : r.vehicles.front().aligned) {
+    AlignedSample b = s;
+    b.truth_p_n += Vec3(0.0, 80.0, 0.0);
+    b.est_p_n = b.truth_p_n + Vec3(0.0, 3.0, 0.5);
+    bravo.aligned.push_back(b);
+    bravo.truth.push_back({b.t_s, b.truth_p_n, b.truth_q_nb, b.distance_m});
+  }
+  r.vehicles.push_back(bravo);
+  CheckResult h{"bravo.horizontal_error", true, true, 3.0, 5.0, "m", "max 3.0 m"};
+  h.kind = "horizontal_error";
+  h.vehicle = "bravo";
+  r.checks.push_back(h);
+  const std::string html = report_of(r, "peer-errors");
+  const auto plots = embedded_plots(html);
+  // THEN its horizontal error plot has the check's envelope and its error, linked from the
+  // check; its vertical error is plotted without one
+  const std::string id = "plot-check-" + std::to_string(r.checks.size() - 1);
+  const auto* p = plot_by_id(plots, id);
+  ASSERT_NE(p, nullptr) << id;
+  EXPECT_EQ((*p)["title"], "bravo: Horizontal error: check bravo.horizontal_error");
+  EXPECT_EQ((*p)["series"][1]["label"], "limit");
+  double largest = 0.0;
+  for (const auto& v : (*p)["data"][1]) {
+    if (v.is_number()) largest = std::max(largest, v.get<double>());
+  }
+  EXPECT_NEAR(largest, 3.0, 1e-3);
+  EXPECT_NE(html.find("<a href=\"#" + id + "\">plot</a>"), std::string::npos);
+  const auto* vertical = plot_by_id(plots, "plot-bravo-vertical_error");
+  ASSERT_NE(vertical, nullptr);
+  EXPECT_EQ((*vertical)["series"].size(), 1u);  // the error only: no check, no envelope
 }
 
 }  // namespace
