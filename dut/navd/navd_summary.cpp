@@ -104,6 +104,7 @@ std::string NavdApp::stats_line(const std::string& reason) const {
            " reports_unknown=" + std::to_string(c.reports_unknown) +
            " reports_partial=" + std::to_string(c.reports_partial) +
            " reports_stale=" + std::to_string(c.reports_stale) +
+           " untimely=" + std::to_string(c.untimely) +
            " reordered=" + std::to_string(f.reordered) +
            " too_late=" + std::to_string(f.too_late) + " invalid=" + std::to_string(f.invalid);
     }

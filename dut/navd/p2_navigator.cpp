@@ -49,6 +49,10 @@ P2Navigator::P2Navigator(const estimator::FilterParams& params,
   NAV_ENSURE(own_id >= 1 && own_id <= config.vehicles, "P2Navigator: own id out of 1..N");
 }
 
+bool P2Navigator::timely(double t_s) const {
+  return t_s <= t_s_ + kMaxAheadS && t_s >= t_s_ - config_.filter.history_s;
+}
+
 P2Vec P2Navigator::state_of(const geodesy::Geodetic& g, double psi, double theta) const {
   P2Vec x;
   x.segment<3>(P2Slice::kPos) = plane_.to_ned(g);
@@ -100,6 +104,10 @@ void P2Navigator::on_fix(const protocols::evologics::UsblLong& l,
     ++counts_.fixes_early;
     return;
   }
+  if (!timely(fix->t_emitted_s)) {
+    ++counts_.untimely;
+    return;
+  }
   if (set_.empty()) return;  // experiment 1: navigation only
   estimator::P2Measurement m;
   m.observer = own_;
@@ -135,6 +143,10 @@ void P2Navigator::on_report(const state::StateReport& r) {
   }
   if (!r.attitude_valid || !r.covariance_valid) {
     ++counts_.reports_partial;
+    return;
+  }
+  if (!timely(r.t_s)) {
+    ++counts_.untimely;
     return;
   }
   const geodesy::Geodetic g{units::deg_to_rad(r.lat_deg), units::deg_to_rad(r.lon_deg),

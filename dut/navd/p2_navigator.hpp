@@ -27,6 +27,8 @@
 //                    the pending fixes of that peer inside it, so that a fix compares the
 //                    peer's state at the ping's emission, not at its previous report. A
 //                    report not newer than the previous one of its sender is dropped.
+//   timeliness       a fix or report valid more than 1 s after the own last sample, or
+//                    older than p2_history_s before it, is counted as untimely and dropped.
 //   iUSBL fixes      USBLLONG + NVBRELATT of one ping → p2_fix.hpp's six observations at the
 //                    emission t_e, with the own navigation's velocity. The experiment's set
 //                    (p2_experiment) waits for the observed peer's report covering t_e and
@@ -65,6 +67,8 @@ struct P2NavigatorCounts {
   std::uint64_t reports_unknown = 0;  ///< reports of an id outside 1..N, or this vehicle's
   std::uint64_t reports_partial = 0;  ///< reports without attitude or covariance
   std::uint64_t reports_stale = 0;    ///< reports not newer than their sender's previous one
+  std::uint64_t untimely = 0;  ///< fixes and reports valid more than kMaxAheadS after the own
+                               ///< last sample, or older than p2_history_s before it
 };
 
 class P2Navigator {
@@ -94,6 +98,10 @@ class P2Navigator {
   /// started, or when not encodable).
   std::optional<protocols::navd_state::StateReport> own_report() const;
 
+  /// Data valid this long after the own last sample are refused: on one time base only a
+  /// wrong clock or sender makes them, and one would hold the filter's history hostage [s].
+  static constexpr double kMaxAheadS = 1.0;
+
   /// Mission time of the last AHRS sample [s].
   double mission_time_s() const { return t_s_; }
   const estimator::DvlNavigator& navigation() const { return nav_; }
@@ -107,6 +115,8 @@ class P2Navigator {
     double t_s = 0.0;
     estimator::P2Vec x = estimator::P2Vec::Zero();
   };
+  /// Whether data valid at t_s may enter the filter (else counted as untimely).
+  bool timely(double t_s) const;
   /// Navigation state [N, E, D, ψ, θ] of a position and attitude on the plane.
   estimator::P2Vec state_of(const geodesy::Geodetic& g, double psi, double theta) const;
 

@@ -223,6 +223,13 @@ TEST(P2Navigator, CountsWhatItCannotUse) {
   v.nav().on_report(peer_report(0.5));  // not newer
   EXPECT_EQ(v.nav().counts().reports, 1u);
   EXPECT_EQ(v.nav().counts().reports_stale, 1u);
+  // Data from the future or from too long ago are refused before they reach the filter.
+  v.nav().on_report(peer_report(5.0));
+  v.nav().on_report(peer_report(4294967.0));
+  Ping late = ping(1.0 - 30.0);
+  v.nav().on_fix(late.l, late.a);
+  EXPECT_EQ(v.nav().counts().untimely, 3u);
+  EXPECT_EQ(v.nav().filter().counters().too_late, 0u);
   // A fix before the peer's first report cannot be used (its state starts at the report).
   StillVehicle w(4);
   w.run_to(1.0);
