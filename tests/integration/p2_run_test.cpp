@@ -3,7 +3,8 @@
 // (navigator p2) with an iUSBL per other vehicle and one acoustic channel, in lockstep. Two runs
 // reproduce byte for byte (every vehicle's estimate, what each DUT wrote to its modem, the
 // bench's wire); each navd fuses the others' state reports and its fixes; the fixes bring the
-// vehicles' mean position error down against their navigation alone (experiment 1).
+// vehicles' mean position error down against their navigation alone (experiment 1); the
+// campaign's per-vehicle table.
 #include <filesystem>
 #include <regex>
 #include <string>
@@ -84,6 +85,26 @@ TEST(NavbenchP2, FixesBringTheFleetsErrorDownAgainstItsNavigationAlone) {
   EXPECT_LT(cooperative, 0.8 * navigation) << navigation << " m against " << cooperative;
   // Experiment 1 fuses no fix: each solution is its own navigation.
   EXPECT_EQ(stat_of(slurp(dir / "expt1" / "dut.log"), "fused"), 0);
+}
+
+TEST(NavbenchP2, TheCampaignTableGivesEveryVehicleAndTheImprovementOverExperimentOne) {
+  const auto dir = fresh_dir("p2-campaign");
+  const auto r = run_navbench({"campaign", source_path("scenarios/p2-2v.yaml"), "--variant",
+                               "expt1", "--variant", "expt3", "--seeds", "1", "-o", "c"},
+                              dir);
+  ASSERT_TRUE(r.exit_code == 0 || r.exit_code == 1) << r.out << r.err;
+  EXPECT_NE(r.out.find("Every vehicle's mean position error"), std::string::npos) << r.out;
+  const auto j = nlohmann::json::parse(slurp(dir / "c" / "campaign.json"));
+  ASSERT_EQ(j["vehicles"].size(), 6u) << j["vehicles"].dump(2);  // 2 cells x (2 vehicles + all)
+  const auto& all3 = j["vehicles"][5];
+  EXPECT_EQ(all3["scenario"], "p2-2v-expt3");
+  EXPECT_EQ(all3["vehicle"], "all");
+  EXPECT_EQ(all3["baseline"], "p2-2v-expt1");
+  ASSERT_TRUE(all3["improvement_pct"].is_number());
+  EXPECT_GT(all3["improvement_pct"].get<double>(), 20.0);  // the fleet gains (estimators.md)
+  EXPECT_TRUE(j["vehicles"][2]["improvement_pct"].is_null());  // the baseline itself
+  const std::string html = slurp(dir / "c" / "campaign.html");
+  EXPECT_NE(html.find("<section id=\"vehicles\">"), std::string::npos);
 }
 
 }  // namespace
