@@ -100,6 +100,33 @@ Result<void> set_choice(NavdConfig& config, const std::string& key, const YAML::
   return {};
 }
 
+/// The number `value` holds, or the located error "'name' expects a number (doc)".
+Result<double> number_at(const std::string& path, const std::string& name,
+                         const YAML::Node& value, const char* doc) {
+  try {
+    if (!value.IsScalar()) throw YAML::Exception(value.Mark(), "not a scalar");
+    return value.as<double>();
+  } catch (const YAML::Exception&) {
+    return fail(ErrorCode::kParse, where(path, value.Mark()) + ": '" + name +
+                                       "' expects a number (" + doc + ")");
+  }
+}
+
+/// Sets a paper's key (a P1Field of P1Params, a P2Field of P2Config) from `value`, then
+/// checks its group; defaults are valid and fields independent, so a failure is this value's.
+template <class Field, class Group>
+Result<void> set_paper_field(const Field& f, Group& group, const std::string& path,
+                             const std::string& name, const YAML::Node& value) {
+  const auto v = number_at(path, name, value, f.doc);
+  if (!v) return tl::unexpected(v.error());
+  f.set(group, *v);
+  if (auto ok = validate(group); !ok) {
+    return fail(ErrorCode::kInvalidArgument,
+                where(path, value.Mark()) + ": " + name + ": " + ok.error().detail);
+  }
+  return {};
+}
+
 }  // namespace
 
 std::string navigator_name(const NavdConfig& config) {
@@ -149,35 +176,16 @@ Result<NavdConfig> load_config(const std::string& path) {
       }
       continue;
     }
+    // A paper's keys: the field's setter, then its group's check (the error names the key).
     if (const P1Field* p1 = find_p1_field(name)) {
-      double v = 0.0;
-      try {
-        if (!value.IsScalar()) throw YAML::Exception(value.Mark(), "not a scalar");
-        v = value.as<double>();
-      } catch (const YAML::Exception&) {
-        return fail(ErrorCode::kParse, where(path, value.Mark()) + ": '" + name +
-                                           "' expects a number (" + p1->doc + ")");
-      }
-      p1->set(config.p1, v);
-      if (auto ok = estimator::validate(config.p1); !ok) {
-        return fail(ErrorCode::kInvalidArgument, where(path, value.Mark()) + ": " + name +
-                                                     ": " + ok.error().detail);
+      if (auto ok = set_paper_field(*p1, config.p1, path, name, value); !ok) {
+        return tl::unexpected(ok.error());
       }
       continue;
     }
     if (const P2Field* p2 = find_p2_field(name)) {
-      double v = 0.0;
-      try {
-        if (!value.IsScalar()) throw YAML::Exception(value.Mark(), "not a scalar");
-        v = value.as<double>();
-      } catch (const YAML::Exception&) {
-        return fail(ErrorCode::kParse, where(path, value.Mark()) + ": '" + name +
-                                           "' expects a number (" + p2->doc + ")");
-      }
-      p2->set(config.p2, v);
-      if (auto ok = validate(config.p2); !ok) {
-        return fail(ErrorCode::kInvalidArgument, where(path, value.Mark()) + ": " + name +
-                                                     ": " + ok.error().detail);
+      if (auto ok = set_paper_field(*p2, config.p2, path, name, value); !ok) {
+        return tl::unexpected(ok.error());
       }
       continue;
     }
@@ -187,19 +195,12 @@ Result<NavdConfig> load_config(const std::string& path) {
       return fail(ErrorCode::kParse, where(path, key.Mark()) + ": unknown key '" + name +
                                          "' (expected one of: " + known_keys() + ")");
     }
-    double v = 0.0;
-    try {
-      if (!value.IsScalar()) throw YAML::Exception(value.Mark(), "not a scalar");
-      v = value.as<double>();
-    } catch (const YAML::Exception&) {
-      return fail(ErrorCode::kParse, where(path, value.Mark()) + ": '" + name +
-                                         "' expects a number (" +
-                                         (field != nullptr ? field->doc : navd_field->doc) + ")");
-    }
+    const auto v = number_at(path, name, value, field != nullptr ? field->doc : navd_field->doc);
+    if (!v) return tl::unexpected(v.error());
     if (field != nullptr) {
-      config.filter.*(field->member) = v;
+      config.filter.*(field->member) = *v;
     } else {
-      config.navd.*(navd_field->member) = v;
+      config.navd.*(navd_field->member) = *v;
     }
     // Defaults are valid and fields are independent, so a failure here is this value's.
     auto ok = field != nullptr ? estimator::validate(config.filter) : validate(config.navd);
