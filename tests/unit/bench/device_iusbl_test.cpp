@@ -4,8 +4,6 @@
 // vehicles' truths, reports the other vehicle where it is.
 #include <gtest/gtest.h>
 
-#include <filesystem>
-#include <fstream>
 #include <memory>
 #include <string>
 #include <variant>
@@ -14,19 +12,15 @@
 #include "nav/emulators/truth.hpp"
 #include "nav/protocols/evologics_usbl.hpp"
 #include "run/device_streams.hpp"
+#include "temp_file.hpp"
 
 namespace nav::bench::detail {
 namespace {
 
-namespace fs = std::filesystem;
 namespace evo = protocols::evologics;
 
 std::string write_temp(const std::string& name, const std::string& text) {
-  const fs::path dir = fs::path(::testing::TempDir()) / "navbench_device_iusbl_test";
-  fs::create_directories(dir);
-  const fs::path p = dir / name;
-  std::ofstream(p) << text;
-  return p.string();
+  return testing::write_temp_file("navbench_device_iusbl_test", name, text);
 }
 
 /// alpha (primary) runs North from the origin; bravo (peer) runs East 200 m North of it,

@@ -5,8 +5,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <filesystem>
-#include <fstream>
 #include <numbers>
 #include <string>
 
@@ -14,19 +12,15 @@
 #include "nav/emulators/truth.hpp"
 #include "nav/protocols/microstrain_gx3.hpp"
 #include "run/device_streams.hpp"
+#include "temp_file.hpp"
 
 namespace nav::bench::detail {
 namespace {
 
-namespace fs = std::filesystem;
 constexpr double kDeg = std::numbers::pi / 180.0;
 
 std::string write_temp(const std::string& name, const std::string& text) {
-  const fs::path dir = fs::path(::testing::TempDir()) / "navbench_device_mount_test";
-  fs::create_directories(dir);
-  const fs::path p = dir / name;
-  std::ofstream(p) << text;
-  return p.string();
+  return testing::write_temp_file("navbench_device_mount_test", name, text);
 }
 
 /// Two GX3s on a vehicle turning on the spot: `plain` at the reference point, `turned` 1 m

@@ -3,25 +3,19 @@
 // at their line.
 #include <gtest/gtest.h>
 
-#include <filesystem>
-#include <fstream>
 #include <numbers>
 #include <string>
 
 #include "nav/bench/scenario.hpp"
+#include "temp_file.hpp"
 
 namespace nav::bench {
 namespace {
 
-namespace fs = std::filesystem;
 constexpr double kDeg = std::numbers::pi / 180.0;
 
 std::string write_temp(const std::string& name, const std::string& text) {
-  const fs::path dir = fs::path(::testing::TempDir()) / "navbench_hand_guided_test";
-  fs::create_directories(dir);
-  const fs::path p = dir / name;
-  std::ofstream(p) << text;
-  return p.string();
+  return testing::write_temp_file("navbench_hand_guided_test", name, text);
 }
 
 /// A small scenario with `vehicle_extra` lines after the path and `gyro` as the GX3's gyro

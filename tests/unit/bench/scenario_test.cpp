@@ -19,6 +19,7 @@
 #include "nav/emulators/keller_emulator.hpp"
 #include "nav/emulators/nmea2000_emulator.hpp"
 #include "nav/emulators/usbl_emulator.hpp"
+#include "temp_file.hpp"
 
 namespace nav::bench {
 namespace {
@@ -35,11 +36,7 @@ const std::string kSourceDir = NAV_SOURCE_DIR;
 
 /// Writes text to a fresh file under the test temp dir and returns its path.
 std::string write_temp(const std::string& name, const std::string& text) {
-  const fs::path dir = fs::path(::testing::TempDir()) / "navbench_scenario_test";
-  fs::create_directories(dir);
-  const fs::path p = dir / name;
-  std::ofstream(p) << text;
-  return p.string();
+  return testing::write_temp_file("navbench_scenario_test", name, text);
 }
 
 /// A small valid scenario; tests append or replace lines.

@@ -5,23 +5,17 @@
 // the primary as before.
 #include <gtest/gtest.h>
 
-#include <filesystem>
-#include <fstream>
 #include <string>
 
 #include "nav/bench/scenario.hpp"
+#include "temp_file.hpp"
 
 namespace nav::bench {
 namespace {
 
-namespace fs = std::filesystem;
 
 std::string write_temp(const std::string& name, const std::string& text) {
-  const fs::path dir = fs::path(::testing::TempDir()) / "navbench_vehicle_checks_test";
-  fs::create_directories(dir);
-  const fs::path p = dir / name;
-  std::ofstream(p) << text;
-  return p.string();
+  return testing::write_temp_file("navbench_vehicle_checks_test", name, text);
 }
 
 /// alpha (primary, trigger `ahrs`) and bravo (trigger `imu`), with `checks`.

@@ -1,0 +1,24 @@
+// SPDX-License-Identifier: MIT
+// A scenario (or any) text written to a file under the test's temporary folder, for the bench's
+// loader tests.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+namespace nav::bench::testing {
+
+/// Writes `text` to <TempDir>/<folder>/<name> and returns that path.
+inline std::string write_temp_file(const std::string& folder, const std::string& name,
+                                   const std::string& text) {
+  const std::filesystem::path dir = std::filesystem::path(::testing::TempDir()) / folder;
+  std::filesystem::create_directories(dir);
+  const std::filesystem::path p = dir / name;
+  std::ofstream(p) << text;
+  return p.string();
+}
+
+}  // namespace nav::bench::testing
