@@ -193,7 +193,7 @@ void P2Navigator::on_report(const state::StateReport& r) {
 
 estimator::NavSolution P2Navigator::solution() const {
   estimator::NavSolution s = nav_.solution();
-  if (!own_track_.started || !filter_.ekf().initialised(own_)) {
+  if (!own_track_.started) {  // started only once the filter took the own block
     s.position_valid = false;
     return s;
   }
@@ -209,7 +209,7 @@ estimator::NavSolution P2Navigator::solution() const {
 }
 
 std::optional<Mat3> P2Navigator::position_covariance() const {
-  if (!own_track_.started || !filter_.ekf().initialised(own_)) return std::nullopt;
+  if (!own_track_.started) return std::nullopt;
   return filter_.ekf().covariance(own_).topLeftCorner<3, 3>();
 }
 
