@@ -251,7 +251,11 @@ Result<VehicleTruths> build_truths(const Scenario& sc) {
   for (std::size_t v = 0; v <= sc.peers.size(); ++v) {
     const auto& spec = v == 0 ? sc.trajectory : sc.peers[v - 1].trajectory;
     const auto& locations = v == 0 ? sc.segment_locations : sc.peers[v - 1].segment_locations;
-    auto truth = emulators::TruthTrajectory::build(spec);
+    const auto& wall = v == 0 ? sc.wall : sc.peers[v - 1].wall;
+    // On a wall the path is drawn from the wall's origin (the start, NED), in wall axes.
+    emulators::TrajectorySpec drawn = spec;
+    if (wall) drawn.start_p_n = Vec3::Zero();
+    auto truth = emulators::TruthTrajectory::build(drawn);
     if (!truth) {
       // Errors about a segment ("segment 3 (arc): ...") point at that segment in the file.
       const std::string& detail = truth.error().detail;
@@ -264,7 +268,18 @@ Result<VehicleTruths> build_truths(const Scenario& sc) {
       }
       return fail(ErrorCode::kInvalidArgument, where + ": " + detail);
     }
-    auto path = std::make_shared<const emulators::TruthTrajectory>(std::move(*truth));
+    std::shared_ptr<const emulators::Truth> path =
+        std::make_shared<const emulators::TruthTrajectory>(std::move(*truth));
+    if (wall) {
+      auto on_wall = emulators::WallTruth::build(path, *wall, spec.start_p_n, spec.gravity_mps2);
+      if (!on_wall) {
+        return fail(ErrorCode::kInvalidArgument,
+                    sc.file + (v == 0 ? std::string(": vehicle.wall: ")
+                                      : ": peers[" + std::to_string(v - 1) + "].vehicle.wall: ") +
+                        on_wall.error().detail);
+      }
+      path = std::make_shared<const emulators::WallTruth>(std::move(*on_wall));
+    }
     const auto& hand = v == 0 ? sc.hand_guided : sc.peers[v - 1].hand_guided;
     if (!hand) {
       truths.push_back(std::move(path));

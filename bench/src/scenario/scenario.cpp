@@ -254,6 +254,7 @@ void read_peers(const Field& f, Scenario& s) {
     p.trajectory = std::move(tmp.trajectory);
     p.hand_guided = tmp.hand_guided;
     p.hand_guided_location = std::move(tmp.hand_guided_location);
+    p.wall = tmp.wall;
     p.devices = std::move(tmp.devices);
     p.dut = std::move(tmp.dut);
     p.segment_locations = std::move(tmp.segment_locations);

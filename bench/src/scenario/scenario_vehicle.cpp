@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <numbers>
 #include <map>
 #include <string>
 #include <utility>
@@ -206,7 +207,7 @@ CanBusSpec read_can(const Field& f, Duration run) {
 
 void read_vehicle(const Field& f, Scenario& s) {
   const MapReader m(f, {"name", "start", "max_accel", "arc_transition", "motion", "hand_guided",
-                       "seabed", "path", "can", "devices"});
+                       "wall", "seabed", "path", "can", "devices"});
   auto& t = s.trajectory;
   if (auto v = m.optional("name")) s.vehicle_name = v->identifier();
   if (auto v = m.optional("start")) read_start(*v, t);
@@ -220,6 +221,20 @@ void read_vehicle(const Field& f, Scenario& s) {
   if (auto v = m.optional("hand_guided")) {
     s.hand_guided = read_hand_guided(*v);
     s.hand_guided_location = location(s.file, v->mark());
+  }
+  if (auto v = m.optional("wall")) {
+    const MapReader w(*v, {"slope", "azimuth"});
+    emulators::WallSpec wall;
+    if (auto slope = w.optional("slope")) {
+      wall.slope_rad = slope->quantity(Dimension::kAngle, Bound::kNonNegative);
+      if (wall.slope_rad > std::numbers::pi / 2 + 1e-12) {
+        slope->fail("expected a slope from 0 deg (the floor) to 90 deg (a vertical wall)");
+      }
+    }
+    if (auto azimuth = w.optional("azimuth")) {
+      wall.azimuth_rad = azimuth->quantity(Dimension::kAngle, Bound::kAny);
+    }
+    s.wall = wall;
   }
   // Local normal gravity at the datum, as the vehicle's accelerometers would feel it.
   t.gravity_mps2 = geodesy::normal_gravity(s.datum.lat_rad, s.datum.alt_m);
@@ -255,6 +270,9 @@ void read_vehicle(const Field& f, Scenario& s) {
   for (const Field& item : m.required("path").list("a list of path segments", 1)) {
     t.segments.push_back(read_segment(item, cur));
     s.segment_locations.push_back(location(s.file, item.mark()));
+    if (s.wall && t.segments.back().kind == emulators::Segment::Kind::kDepth) {
+      item.fail("a vehicle on a wall drives on it: straight, arc and turn segments only");
+    }
   }
 
   read_devices(m.required("devices"), s);

@@ -19,6 +19,7 @@
 #include "nav/emulators/device.hpp"
 #include "nav/emulators/faults.hpp"
 #include "nav/emulators/hand_guided_truth.hpp"
+#include "nav/emulators/wall_truth.hpp"
 #include "nav/emulators/mounted_truth.hpp"
 #include "nav/emulators/truth.hpp"
 
@@ -166,6 +167,7 @@ struct PeerSpec {
   emulators::TrajectorySpec trajectory;
   std::optional<emulators::HandGuidedSpec> hand_guided;  ///< as Scenario::hand_guided
   std::string hand_guided_location;                      ///< as Scenario::hand_guided_location
+  std::optional<emulators::WallSpec> wall;               ///< as Scenario::wall
   std::vector<DeviceSpec> devices;
   DutSpec dut;
   std::vector<std::string> segment_locations;  ///< as Scenario::segment_locations
@@ -218,6 +220,10 @@ struct Scenario {
   /// truth kind, hand_guided_truth.hpp); nullopt: it follows the path exactly.
   std::optional<emulators::HandGuidedSpec> hand_guided;
   std::string hand_guided_location;  ///< "file:line:col" of vehicle.hand_guided (errors)
+  /// vehicle.wall: the vehicle drives on a plane (the wall truth kind, wall_truth.hpp); its
+  /// path is drawn on the plane, `start` is the path's origin on it (NED) and its heading the
+  /// direction on the wall from x′ towards y′; nullopt: a swimming or rolling vehicle.
+  std::optional<emulators::WallSpec> wall;
   std::vector<DeviceSpec> devices;
   DutSpec dut;
   std::vector<CheckSpec> checks;
