@@ -10,6 +10,7 @@
 #include <numbers>
 
 #include "emulator_test_support.hpp"
+#include "nav/emulators/mounted_truth.hpp"
 #include "truth_consistency.hpp"
 
 namespace nav::emulators {
@@ -84,6 +85,30 @@ TEST(WallTruth, ARobotAtRestOnAVerticalWallFeelsGravityAlongItsYAndPressesZIntoT
   EXPECT_NEAR((down.q_nb * Vec3::UnitX()).z(), 1.0, 1e-6);
   EXPECT_NEAR(down.v_n.normalized().z(), 1.0, 1e-6);
   EXPECT_GT(down.p_n.z(), 1.0);
+}
+
+TEST(WallTruth, AnAhrsMountedWithZAlongTheSlopeReadsTheHeadingOnTheWallAsItsRoll) {
+  // Paper P3's EBIMU: its z along the wall's y′ when the robot drives along x′, its x into
+  // the wall. Device axes in the body: x_d = z_b, y_d = x_b, z_d = y_b (columns of R_bd).
+  Mat3 R_bd;
+  R_bd.col(0) = Vec3::UnitZ();
+  R_bd.col(1) = Vec3::UnitX();
+  R_bd.col(2) = Vec3::UnitY();
+  Mount mount;
+  mount.q_bd = Quat(R_bd);
+  // The robot at rest on a vertical wall facing East (x′ North), heading θ on the wall.
+  for (const double theta_deg : {0.0, 30.0, 90.0, -45.0, 150.0}) {
+    TrajectorySpec spec;
+    spec.start_yaw_rad = theta_deg * kDeg;
+    auto path = std::make_shared<const TruthTrajectory>(*TruthTrajectory::build(spec));
+    auto wall = std::make_shared<const WallTruth>(
+        *WallTruth::build(path, {90.0 * kDeg, 0.0}, Vec3::Zero(), kG));
+    const MountedTruth ahrs(wall, mount);
+    const Euler e = euler_from_quat(ahrs.at(seconds(1)).q_nb);
+    EXPECT_NEAR(wrap_pi(e.roll - theta_deg * kDeg), 0.0, 1e-9) << theta_deg;
+    EXPECT_NEAR(e.pitch, 0.0, 1e-9) << theta_deg;  // its x lies level, into the wall
+    EXPECT_NEAR(wrap_pi(e.yaw - (-90.0 * kDeg)), 0.0, 1e-9) << theta_deg;  // West, into it
+  }
 }
 
 TEST(WallTruth, RefusesAnImpossibleWall) {
