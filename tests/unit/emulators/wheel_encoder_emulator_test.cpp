@@ -3,6 +3,7 @@
 // fixtures/crawler.dbc; tick rates of a straight run, a turn in place, the 2^32 wrap, ticks
 // integrated back to the travelled distance, slip, rates from the DBC, determinism.
 #include "nav/emulators/wheel_encoder_emulator.hpp"
+#include "nav/emulators/wall_truth.hpp"
 
 #include <gtest/gtest.h>
 
@@ -153,6 +154,41 @@ TEST(WheelEncoderEmulator, TurnInPlaceGivesOppositeTicks) {
   EXPECT_NEAR(static_cast<double>(left), expected, 1.0);
   EXPECT_NEAR(static_cast<double>(right), -expected, 1.0);
   EXPECT_GT(left, 100);
+}
+
+TEST(WheelEncoderEmulator, OnAVerticalWallTheWheelsRollTheirTravelOnTheWall) {
+  // A crawler on a vertical wall: 2 m straight down the wall, then a quarter turn in place to
+  // starboard on the wall (about the wall's normal, the body's z).
+  const auto codec = crawler_codec();
+  const WheelEncoderConfig cfg = ideal();
+  TrajectorySpec spec;
+  spec.start_yaw_rad = std::numbers::pi / 2.0;  // down y′
+  spec.max_accel_mps2 = 0.5;
+  Segment down;
+  down.length_m = 2.0;
+  down.speed_mps = 0.2;
+  Segment turn;
+  turn.kind = Segment::Kind::kTurn;
+  turn.angle_rad = std::numbers::pi / 2.0;
+  turn.rate_radps = 0.5;
+  spec.segments = {down, turn};
+  const auto path = std::make_shared<const TruthTrajectory>(*TruthTrajectory::build(spec));
+  const auto wall = *WallTruth::build(path, {std::numbers::pi / 2.0, 0.0}, Vec3::Zero(),
+                                      9.80665);
+  const Duration duration = path->path_duration() + seconds(1);
+  // It went straight down the wall: 2 m, and the ramp to a stop before the turn.
+  const double travel_m = wall.at(duration).p_n.z();
+  EXPECT_GT(travel_m, 2.0);
+  EXPECT_LT(travel_m, 2.1);
+  const auto frames = generate_wheel_encoders(cfg, codec, wall, duration, kSeed);
+  const std::int64_t left = total_ticks(decode_wheel(codec, frames, we::Wheel::kLeft));
+  const std::int64_t right = total_ticks(decode_wheel(codec, frames, we::Wheel::kRight));
+  // Each wheel: the travel, then ±(π/2)(b/2) on the wall, as on the floor; gravity plays no
+  // part.
+  const double per_metre = kCpr / (2.0 * std::numbers::pi * cfg.wheel_radius_m);
+  const double turn_m = std::numbers::pi / 2.0 * cfg.track_width_m / 2.0;
+  EXPECT_NEAR(static_cast<double>(left), (travel_m + turn_m) * per_metre, 1.0);
+  EXPECT_NEAR(static_cast<double>(right), (travel_m - turn_m) * per_metre, 1.0);
 }
 
 TEST(WheelEncoderEmulator, CounterWrapIsHandled) {
