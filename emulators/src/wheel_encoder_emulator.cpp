@@ -12,7 +12,8 @@
 //   phi_j(t_k) = phi_j(t_{k-1}) + (1 + slip_j(t_{k-1})) / R * integral of v_j over
 //                [t_{k-1}, t_k]   (composite Simpson on sub-steps of at most 5 ms, so the
 //                angle is the integral of the truth to well below a tick), phi_j(0) = 0
-//   TickCount_j(t_k) = (floor(phi_j(t_k) cpr / 2 pi) + start_j) mod 2^32  (cpr from the DBC)
+//   TickCount_j(t_k) = (floor((phi_j(t_k) + s_a n_angle) cpr / 2 pi) + start_j) mod 2^32
+//                      (cpr from the DBC; s_a the angle noise, read and not accumulated)
 //   WheelSpeed_j(t_k) = w_j(t_k) + s_w n_speed, clipped to the signal's DBC range
 //   MsgCounter_j = k mod 2^length (the DBC's counter length), Valid = 1
 //   slip_j(t_k) = slip_j + walk_j(t_k), walk_j(0) = 0,
@@ -22,7 +23,9 @@
 //
 // Draws: wheel j has its own engine, mt19937_64 seeded with device_seed(seed, DBC message
 // name constant, "WheelEncoderLeft" / "WheelEncoderRight"); each frame draws n_walk (also at
-// k = 0, where it advances nothing) then n_speed, also when a standard deviation is 0.
+// k = 0, where it advances nothing) then n_speed, also when a standard deviation is 0. The
+// angle noise n_angle has an engine of its own per wheel (device_seed(seed, "<message>/angle")),
+// drawn only when s_a > 0, so that streams made without it stay as they were.
 //
 // Slip acts on the wheel's rotation, so the encoder sees it in TickCount and WheelSpeed alike:
 // a 5 % slip makes the ticks 5 % more than the ground distance needs.
@@ -97,6 +100,8 @@ std::vector<CanWireFrame> generate_wheel_encoders(const WheelEncoderConfig& cfg,
   NAV_ENSURE(cfg.latency.count() >= 0, "wheel encoder latency must be >= 0");
   NAV_ENSURE(std::isfinite(cfg.speed_std_radps) && cfg.speed_std_radps >= 0.0,
              "wheel encoder speed_std_radps must be >= 0");
+  NAV_ENSURE(std::isfinite(cfg.angle_std_rad) && cfg.angle_std_rad >= 0.0,
+             "wheel encoder angle_std_rad must be >= 0");
   NAV_ENSURE(std::isfinite(cfg.slip.left) && std::isfinite(cfg.slip.right) &&
                  cfg.slip.left > -1.0 && cfg.slip.right > -1.0,
              "wheel encoder slip fractions must be finite and > -1");
@@ -108,6 +113,8 @@ std::vector<CanWireFrame> generate_wheel_encoders(const WheelEncoderConfig& cfg,
     const bool left = wheel == we::Wheel::kLeft;
     const std::size_t j = left ? 0 : 1;
     std::mt19937_64 rng(device_seed(seed, left ? we::kLeftMessage : we::kRightMessage));
+    std::mt19937_64 angle_rng(
+        device_seed(seed, std::string(left ? we::kLeftMessage : we::kRightMessage) + "/angle"));
     const double rate_hz =
         cfg.rate_hz ? *cfg.rate_hz
                     : 1e3 / static_cast<double>(codec.cycle_time(wheel).count());
@@ -136,8 +143,10 @@ std::vector<CanWireFrame> generate_wheel_encoders(const WheelEncoderConfig& cfg,
 
       we::WheelEncoderSample sample;
       sample.wheel = wheel;
-      const auto whole_ticks =
-          static_cast<std::int64_t>(std::floor(angle_rad * counts_per_rad));
+      const double read_rad =
+          angle_rad + (cfg.angle_std_rad > 0.0 ? cfg.angle_std_rad * standard_normal(angle_rng)
+                                               : 0.0);
+      const auto whole_ticks = static_cast<std::int64_t>(std::floor(read_rad * counts_per_rad));
       sample.ticks = static_cast<std::uint32_t>(whole_ticks) + start;  // mod 2^32
       double omega = (1.0 + slip) * wheel_speeds(truth, t, cfg.track_width_m)[j] /
                          cfg.wheel_radius_m +

@@ -64,7 +64,10 @@ void read_wheels(const MapReader& m, const Scenario& s, Duration latency,
     }
   }
   if (auto v = m.optional("errors")) {
-    const MapReader e(*v, {"speed"});
+    const MapReader e(*v, {"speed", "angle"});
+    if (auto x = e.optional("angle")) {
+      c.angle_std_rad = x->quantity(Dimension::kAngle, Bound::kNonNegative);
+    }
     if (auto x = e.optional("speed")) {
       c.speed_std_radps = x->quantity(Dimension::kAngularRate, Bound::kNonNegative);
     }

@@ -191,6 +191,30 @@ TEST(WheelEncoderEmulator, OnAVerticalWallTheWheelsRollTheirTravelOnTheWall) {
   EXPECT_NEAR(static_cast<double>(right), (travel_m - turn_m) * per_metre, 1.0);
 }
 
+TEST(WheelEncoderEmulator, AngleNoiseScattersTheTicksWithoutAccumulating) {
+  const auto codec = crawler_codec();
+  const WheelEncoderConfig plain = ideal();
+  WheelEncoderConfig noisy = ideal();
+  noisy.angle_std_rad = 0.7 * std::numbers::pi / 180.0;  // the RM44's accuracy
+  const auto a = decode_wheel(codec, generate_wheel_encoders(plain, codec, straight(0.5),
+                                                             seconds(60), kSeed),
+                              we::Wheel::kLeft);
+  const auto b = decode_wheel(codec, generate_wheel_encoders(noisy, codec, straight(0.5),
+                                                             seconds(60), kSeed),
+                              we::Wheel::kLeft);
+  ASSERT_EQ(a.size(), b.size());
+  std::int64_t differ = 0, sum = 0;
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    const std::int64_t d = we::tick_delta(b[k].s.ticks, a[k].s.ticks);
+    EXPECT_LE(std::abs(d), 3) << k;  // 0.7 deg is half a tick of 256 per turn: a few at most
+    differ += d != 0 ? 1 : 0;
+    sum += d;
+    EXPECT_EQ(b[k].s.omega, a[k].s.omega) << k;  // the speed's draws are not touched
+  }
+  EXPECT_GT(differ, static_cast<std::int64_t>(a.size() / 10));
+  EXPECT_LT(std::abs(static_cast<double>(sum) / static_cast<double>(a.size())), 0.2);
+}
+
 TEST(WheelEncoderEmulator, CounterWrapIsHandled) {
   const auto codec = crawler_codec();
   WheelEncoderConfig cfg = ideal();

@@ -37,6 +37,9 @@ struct WheelEncoderConfig {
   std::uint32_t start_ticks_left = 0;   ///< left TickCount at scenario time 0 [count]
   std::uint32_t start_ticks_right = 0;  ///< right TickCount at scenario time 0 [count]
   double speed_std_radps = 0.01;  ///< white noise on WheelSpeed [rad/s]
+  /// White noise on the angle the encoder reads before it is cut to ticks (a magnetic
+  /// encoder's accuracy: the RM44's ±0.7°), per sample, not accumulated [rad].
+  double angle_std_rad = 0.0;
   WheelSlip slip;                 ///< encoder slip (design.md "encoder slip")
 };
 
