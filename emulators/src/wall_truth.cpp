@@ -8,17 +8,7 @@
 namespace nav::emulators {
 
 Mat3 wall_rotation(const WallSpec& wall) {
-  const double ca = std::cos(wall.slope_rad), sa = std::sin(wall.slope_rad);
-  const double cb = std::cos(wall.azimuth_rad), sb = std::sin(wall.azimuth_rad);
-  const Vec3 x_w(cb, sb, 0.0);                       // W1
-  const Vec3 h(-sb, cb, 0.0);                        // W1
-  const Vec3 y_w = ca * h + sa * Vec3::UnitZ();      // W1
-  const Vec3 z_w = x_w.cross(y_w);                   // W1
-  Mat3 R;
-  R.col(0) = x_w;
-  R.col(1) = y_w;
-  R.col(2) = z_w;
-  return R;
+  return nav::wall_rotation(wall.slope_rad, wall.azimuth_rad);  // W1
 }
 
 Result<WallTruth> WallTruth::build(std::shared_ptr<const Truth> path, const WallSpec& wall,

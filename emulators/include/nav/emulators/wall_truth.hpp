@@ -2,13 +2,8 @@
 // The wall truth kind (truth_kind.hpp): a robot pressed flat on a plane of slope α, driving a
 // path drawn in the plane's own coordinates (paper P3's crawler on a harbour wall).
 //
-// The wall frame w: x′ horizontal along the wall at azimuth β (0 = North, + towards East),
-// y′ down the slope, z_w = x′ × y′ into the wall (from the robot):
-//   W1  x′  = (cos β, sin β, 0)
-//       h   = (−sin β, cos β, 0)                  horizontal, 90° to the right of x′
-//       y′  = cos α · h + sin α · (0, 0, 1)        α = 0: the floor (y′ = h), 90°: vertical
-//       z_w = x′ × y′                               α = 0: down; 90°: −h, horizontal
-//       R_nw = [x′ y′ z_w]
+// The wall frame w (W1, nav/common/wall_frame.hpp): x′ horizontal along the wall at azimuth β,
+// y′ down the slope, z_w = x′ × y′ into the wall; R_nw = [x′ y′ z_w].
 // The path is a nominal truth on the wall as if the wall were the level floor: its north is
 // x′, its east y′, its down the distance from the plane (0 for a crawler: a level path), its
 // heading the driving direction on the wall from x′ towards y′, its body the robot's (x
@@ -25,6 +20,7 @@
 
 #include "nav/common/frames.hpp"
 #include "nav/common/result.hpp"
+#include "nav/common/wall_frame.hpp"
 #include "nav/emulators/truth_kind.hpp"
 
 namespace nav::emulators {
