@@ -3,25 +3,19 @@
 // vertical, a depth segment on a wall, an unknown key).
 #include <gtest/gtest.h>
 
-#include <filesystem>
-#include <fstream>
 #include <numbers>
 #include <string>
 
 #include "nav/bench/scenario.hpp"
+#include "temp_file.hpp"
 
 namespace nav::bench {
 namespace {
 
-namespace fs = std::filesystem;
 constexpr double kDeg = std::numbers::pi / 180.0;
 
 std::string write_temp(const std::string& name, const std::string& text) {
-  const fs::path dir = fs::path(::testing::TempDir()) / "navbench_wall_test";
-  fs::create_directories(dir);
-  const fs::path p = dir / name;
-  std::ofstream(p) << text;
-  return p.string();
+  return testing::write_temp_file("navbench_wall_test", name, text);
 }
 
 /// A crawler with `wall` as its vehicle.wall line and `segment` as its second path item.
