@@ -18,7 +18,7 @@ struct Step {
 
 Step step_of(const P3Vec& x, const P3Input& u, double track_m) {
   const double ds = 0.5 * (u(0) + u(1));                // C1
-  const double dtheta = (u(0) - u(1)) / track_m;        // C1
+  const double dtheta = (u(1) - u(0)) / track_m;        // C1
   return {ds, dtheta, x(P3Slice::kTheta) + 0.5 * dtheta};  // C1
 }
 
@@ -46,9 +46,9 @@ P3InputJacobian p3_input_jacobian(const P3Vec& x, const P3Input& u, double track
   const double c = std::cos(s.phi), sn = std::sin(s.phi);
   const double turn = s.ds / (2.0 * track_m);  // Δs/(2b) = R(ω_r + ω_l)ΔT/(4b), eq 7 with ΔT
   P3InputJacobian W;                            // C4
-  W << 0.5 * c - turn * sn, 0.5 * c + turn * sn,
-       0.5 * sn + turn * c, 0.5 * sn - turn * c,
-       1.0 / track_m, -1.0 / track_m;
+  W << 0.5 * c + turn * sn, 0.5 * c - turn * sn,
+       0.5 * sn - turn * c, 0.5 * sn + turn * c,
+       -1.0 / track_m, 1.0 / track_m;
   return W;
 }
 

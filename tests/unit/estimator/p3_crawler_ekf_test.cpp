@@ -24,12 +24,13 @@ TEST(P3Odometry, StraightTurnInPlaceAndAnArcByHand) {
   EXPECT_NEAR(s(0), 1.0 + 0.1 * std::cos(std::numbers::pi / 6), 1e-15);
   EXPECT_NEAR(s(1), 2.0 + 0.1 * std::sin(std::numbers::pi / 6), 1e-15);
   EXPECT_DOUBLE_EQ(s(2), x0(2));
-  // Opposite travel: a turn in place by 2d/b, the position unchanged.
-  const P3Vec t = p3_motion(x0, P3Input(0.03, -0.03), kB);
+  // Opposite travel: a turn in place by 2d/b, the position unchanged; the left wheel ahead
+  // turns the robot to its right, towards y′ (θ grows).
+  const P3Vec t = p3_motion(x0, P3Input(-0.03, 0.03), kB);
   EXPECT_NEAR(t(2), x0(2) + 0.2, 1e-15);
   EXPECT_NEAR((t.head<2>() - x0.head<2>()).norm(), 0.0, 1e-15);
   // An arc: the chord at the mean heading (RK2), Δs = 0.1, Δθ = 0.1.
-  const P3Vec a = p3_motion(P3Vec::Zero(), P3Input(0.115, 0.085), kB);
+  const P3Vec a = p3_motion(P3Vec::Zero(), P3Input(0.085, 0.115), kB);
   EXPECT_NEAR(a(2), 0.1, 1e-15);
   EXPECT_NEAR(a(0), 0.1 * std::cos(0.05), 1e-15);
   EXPECT_NEAR(a(1), 0.1 * std::sin(0.05), 1e-15);

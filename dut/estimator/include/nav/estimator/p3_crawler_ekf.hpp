@@ -4,15 +4,20 @@
 // direction from x′ towards y′), differential-drive odometry as the motion model, and an
 // update by a position/heading measurement whose x row may be switched off.
 //
-// Input u = [d_r, d_l] = [R ω_r ΔT, R ω_l ΔT], each wheel's travel over the step [m];
-// b the wheel base (track) [m]. Second-order Runge–Kutta (eq 3):
-//   C1  Δs = (d_r + d_l) / 2,  Δθ = (d_r − d_l) / b,  φ = θ + Δθ / 2
+// Input u = [d_r, d_l] = [R ω_r ΔT, R ω_l ΔT], each wheel's travel over the step [m], the
+// right wheel on the robot's right (body +y = z × x, z into the wall); b the wheel base
+// (track) [m]. θ turns from x′ towards y′, about z into the wall (the AHRS roll's sense), so
+// a right-wheel excess turns θ negative. The paper's eq 3, Δθ = R(ω_r − ω_l)ΔT/b, is the
+// counter-clockwise turn of a frame with z out of the wall; with θ towards y′ (eqs 10–11 and
+// the AHRS roll) its sign is flipped here (decided; docs/estimators.md, P3).
+// Second-order Runge–Kutta (eq 3):
+//   C1  Δs = (d_r + d_l) / 2,  Δθ = (d_l − d_r) / b,  φ = θ + Δθ / 2
 //   C2  x ← x + Δs cos φ,  y ← y + Δs sin φ,  θ ← θ + Δθ
 // Jacobians (eq 6, and eq 7 with the ΔT the paper omits: Δs/(2b) = R(ω_r + ω_l)ΔT/(4b)):
 //   C3  A = ∂f/∂X = [1 0 −Δs sin φ; 0 1 Δs cos φ; 0 0 1]
-//   C4  W = ∂f/∂u = [cos φ/2 − Δs sin φ/(2b),  cos φ/2 + Δs sin φ/(2b);
-//                    sin φ/2 + Δs cos φ/(2b),  sin φ/2 − Δs cos φ/(2b);
-//                    1/b,                      −1/b]
+//   C4  W = ∂f/∂u = [cos φ/2 + Δs sin φ/(2b),  cos φ/2 − Δs sin φ/(2b);
+//                    sin φ/2 − Δs cos φ/(2b),  sin φ/2 + Δs cos φ/(2b);
+//                    −1/b,                     1/b]
 //   C5  Q = diag(k_r |d_r|, k_l |d_l|),  P ← A P Aᵀ + W Q Wᵀ
 // Update by z = [x_m, y_m, θ_m], H = I₃, R = diag(σ_x², σ_y², σ_θ²):
 //   C6  ν = z − X (ν_θ wrapped to (−π, π]),  S = P + R (LDLᵀ solve)
