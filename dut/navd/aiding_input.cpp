@@ -185,6 +185,27 @@ AidingInput::AidingInput(std::string name, InputProtocol protocol, std::size_t m
     : name_(std::move(name)), protocol_(protocol), decoder_(make_decoder(protocol, max_buffer)) {}
 
 void AidingInput::feed(protocols::ByteSpan bytes) {
+  if (protocol_ == InputProtocol::kEbimu) {
+    // A line decodes when its LF is fed: feeding up to each LF names every line decoded by
+    // that piece with the LFs counted before it (the line's ordinal).
+    auto& decoder = std::get<StreamDecoder<ebimu::Line>>(decoder_);
+    std::vector<ebimu::Line> lines;
+    while (!bytes.empty()) {
+      const auto lf = std::find(bytes.begin(), bytes.end(), std::uint8_t{'\n'});
+      const bool whole = lf != bytes.end();
+      const std::size_t n =
+          whole ? static_cast<std::size_t>(lf - bytes.begin()) + 1 : bytes.size();
+      lines.clear();
+      decoder.feed(bytes.first(n), lines);
+      for (const auto& m : lines) {
+        on_message(m);
+        ebimu_lines_.push_back({line_feeds_, m});
+      }
+      if (whole) ++line_feeds_;
+      bytes = bytes.subspan(n);
+    }
+    return;
+  }
   std::visit(
       [&](auto& decoder) {
         using D = std::decay_t<decltype(decoder)>;
@@ -193,6 +214,12 @@ void AidingInput::feed(protocols::ByteSpan bytes) {
         for (const auto& m : msgs) on_message(m);
       },
       decoder_);
+}
+
+std::vector<AidingInput::EbimuLine> AidingInput::take_ebimu_lines() {
+  std::vector<EbimuLine> out;
+  out.swap(ebimu_lines_);
+  return out;
 }
 
 bool AidingInput::is_dvl() const {

@@ -140,6 +140,17 @@ class AidingInput {
   /// ping is counted (counters_text's `unpaired_nvbrelatt`, shown when not 0).
   std::vector<RelativeFix> take_relative_fixes();
 
+  /// One EBIMU line and its ordinal: the LF bytes the port received before the line's own
+  /// LF, counted from the port's first byte, in every line whether it decodes or not (the
+  /// trigger tag of docs/dut-contract.md, "trigger_tag by kind of trigger device").
+  struct EbimuLine {
+    std::uint64_t ordinal = 0;
+    protocols::ebimu::Line line;
+  };
+  /// The EBIMU lines decoded since the last call, in stream order (cleared by the call);
+  /// always empty for other protocols.
+  std::vector<EbimuLine> take_ebimu_lines();
+
   /// Whether the protocol is a DVL's (nq1, pd0, pd6, a50).
   bool is_dvl() const;
 
@@ -187,6 +198,8 @@ class AidingInput {
   std::optional<protocols::evologics::UsblLong> last_long_;  ///< awaiting its NVBRELATT
   std::vector<RelativeFix> relative_fixes_;                  ///< not yet taken
   std::uint64_t unpaired_relative_ = 0;  ///< NVBRELATT not after its ping's USBLLONG
+  std::uint64_t line_feeds_ = 0;          ///< EBIMU: LF bytes received so far
+  std::vector<EbimuLine> ebimu_lines_;    ///< not yet taken
 };
 
 }  // namespace nav::dut

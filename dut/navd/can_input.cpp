@@ -79,6 +79,7 @@ void CanInput::feed_dbc(const protocols::dbc::Message& m, const protocols::can::
         return;
       }
       (*w == wheel::Wheel::kLeft ? last_left_ : last_right_) = *sample;
+      wheel_samples_.push_back(*sample);
     }
   }
   ++dbc_counts_[m.name];
@@ -128,6 +129,17 @@ std::optional<std::uint8_t> CanInput::last_source(std::uint32_t pgn) const {
   const auto it = last_source_.find(pgn);
   if (it == last_source_.end()) return std::nullopt;
   return it->second;
+}
+
+std::vector<protocols::wheel_encoder::WheelEncoderSample> CanInput::take_wheel_samples() {
+  std::vector<protocols::wheel_encoder::WheelEncoderSample> out;
+  out.swap(wheel_samples_);
+  return out;
+}
+
+std::optional<double> CanInput::angle_per_tick(protocols::wheel_encoder::Wheel w) const {
+  if (!wheels_) return std::nullopt;
+  return wheels_->angle_per_tick(w);
 }
 
 std::string CanInput::counters_text() const {

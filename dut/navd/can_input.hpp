@@ -15,7 +15,8 @@
 //                 any other PGN: counted as n2k other (a real bus carries many), not decoded
 //         ──▶ anything else (11-bit id not in the DBC, 29-bit id with EDP set) ▶ unknown_id
 //
-// Nothing here is fused: navd's estimator does not use CAN data yet (docs/dut-contract.md).
+// Only the wheel encoder samples are fused (paper P3's navigators take them); the NMEA 2000
+// messages are decoded and counted.
 #pragma once
 
 #include <array>
@@ -24,6 +25,7 @@
 #include <optional>
 #include <string>
 #include <variant>
+#include <vector>
 
 #include "nav/common/result.hpp"
 #include "nav/protocols/can_error.hpp"
@@ -109,6 +111,13 @@ class CanInput {
     return w == protocols::wheel_encoder::Wheel::kLeft ? last_left_ : last_right_;
   }
 
+  /// The wheel encoder samples decoded since the last call, in bus order (cleared by the
+  /// call).
+  std::vector<protocols::wheel_encoder::WheelEncoderSample> take_wheel_samples();
+  /// A wheel's rotation per encoder count from the DBC [rad]; nullopt without wheel encoder
+  /// messages in it.
+  std::optional<double> angle_per_tick(protocols::wheel_encoder::Wheel w) const;
+
   /// "frames=.. n2k{127250=..,...,other=..} dbc{Name=..,...} rejects{unknown_id=..,...}"
   /// (dbc{} empty without a DBC; messages in DBC file order).
   std::string counters_text() const;
@@ -131,6 +140,7 @@ class CanInput {
   std::map<std::uint32_t, std::uint8_t> last_source_;
   std::optional<protocols::wheel_encoder::WheelEncoderSample> last_left_;
   std::optional<protocols::wheel_encoder::WheelEncoderSample> last_right_;
+  std::vector<protocols::wheel_encoder::WheelEncoderSample> wheel_samples_;  ///< not yet taken
 };
 
 }  // namespace nav::dut

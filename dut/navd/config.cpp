@@ -10,6 +10,7 @@
 
 #include "config_p1.hpp"
 #include "config_p2.hpp"
+#include "config_p3.hpp"
 #include "nav/common/escape.hpp"
 #include "nav/estimator/p1_driver.hpp"
 
@@ -49,6 +50,7 @@ std::string known_keys() {
   for (const auto& f : kNavdFields) s += std::string(", ") + f.name;
   for (const auto& f : p1_fields()) s += std::string(", ") + f.name;
   for (const auto& f : p2_fields()) s += std::string(", ") + f.name;
+  for (const auto& f : p3_fields()) s += std::string(", ") + f.name;
   return s;
 }
 
@@ -83,13 +85,22 @@ Result<void> set_choice(NavdConfig& config, const std::string& key, const YAML::
       config.navigator = NavigatorKind::kDvl;
     } else if (v == "p2") {
       config.navigator = NavigatorKind::kP2;
+    } else if (v == p3_method_name(P3Method::kDeadReckoning)) {
+      config.navigator = NavigatorKind::kP3;
+      config.p3.method = P3Method::kDeadReckoning;
+    } else if (v == p3_method_name(P3Method::kEkf)) {
+      config.navigator = NavigatorKind::kP3;
+      config.p3.method = P3Method::kEkf;
+    } else if (v == p3_method_name(P3Method::kEkfKr)) {
+      config.navigator = NavigatorKind::kP3;
+      config.p3.method = P3Method::kEkfKr;
     } else if (estimator::make_p1_navigator(v, estimator::P1Params{})) {
       config.navigator = NavigatorKind::kP1;
       config.p1_navigator = v;
     } else {
       return fail(ErrorCode::kInvalidArgument, "unknown navigator '" + v +
-                                                   "' (expected gps-ins, dvl, p2 or a paper "
-                                                   "P1 navigator: " +
+                                                   "' (expected gps-ins, dvl, p2, p3-dr, p3-ekf, "
+                                                   "p3-ekf-kr or a paper P1 navigator: " +
                                                    estimator::p1_navigator_names() + ")");
     }
     return {};
@@ -135,6 +146,7 @@ std::string navigator_name(const NavdConfig& config) {
     case NavigatorKind::kDvl: return "dvl";
     case NavigatorKind::kP1: return config.p1_navigator;
     case NavigatorKind::kP2: return "p2";
+    case NavigatorKind::kP3: return p3_method_name(config.p3.method);
   }
   return "?";
 }
@@ -189,6 +201,12 @@ Result<NavdConfig> load_config(const std::string& path) {
       }
       continue;
     }
+    if (const P3Field* p3 = find_p3_field(name)) {
+      if (auto ok = set_paper_field(*p3, config.p3, path, name, value); !ok) {
+        return tl::unexpected(ok.error());
+      }
+      continue;
+    }
     const estimator::ParamField* field = find_field(name);
     const NavdField* navd_field = find_navd_field(name);
     if (field == nullptr && navd_field == nullptr) {
@@ -221,7 +239,10 @@ std::string config_keys_help() {
                   estimator::p1_navigator_names() +
                   ": strapdown INS only, or with the 15-state error EKF; the p1_* keys), or "
                   "p2 (paper P2: DVL dead reckoning from the first GPS fix, joined with the "
-                  "other vehicles' over the modem and the iUSBL fixes; the p2_* keys)\n  " +
+                  "other vehicles' over the modem and the iUSBL fixes; the p2_* keys), or p3-dr, "
+                  "p3-ekf, p3-ekf-kr (paper P3: a crawler on a wall from CAN wheel encoders, "
+                  "the EBIMU as trigger and a Keller depth; dead reckoning, the EKF with y and "
+                  "heading, or with the kinematic x too; the p3_* keys)\n  " +
                   kAttitudeKey + " (default mahony): attitude source, one of " +
                   estimator::attitude_filter_names() +
                   " (raw/ekf/ukf/cf: paper P0's no-filtering, Euler EKF, Euler UKF and PI "
@@ -241,6 +262,11 @@ std::string config_keys_help() {
   const P2Config p2_defaults;
   for (const auto& f : p2_fields()) {
     s += std::string("  ") + f.name + " (default " + format_g(f.get(p2_defaults)) + "): " +
+         f.doc + "\n";
+  }
+  const P3Config p3_defaults;
+  for (const auto& f : p3_fields()) {
+    s += std::string("  ") + f.name + " (default " + format_g(f.get(p3_defaults)) + "): " +
          f.doc + "\n";
   }
   const estimator::P1Params p1_defaults;

@@ -2,7 +2,7 @@
 // navd's optional YAML config file: a flat map of FilterParams fields and of navd's own
 // parameters (NavdParams) by name, plus two choices by name, e.g.
 //
-//   navigator: dvl            # gps-ins (default), dvl, a P1 navigator or p2
+//   navigator: dvl            # gps-ins (default), dvl, a P1 navigator, p2 or a P3 navigator
 //   attitude_filter: ekf      # mahony (default), raw, ekf, ukf, cf or eskf
 //   attitude_kp_per_s: 0.8
 //   gps_horizontal_std_m: 1.5
@@ -18,6 +18,7 @@
 #include "nav/estimator/filter_params.hpp"
 #include "nav/estimator/p1_types.hpp"
 #include "config_p2.hpp"
+#include "config_p3.hpp"
 
 namespace nav::dut {
 
@@ -34,6 +35,7 @@ enum class NavigatorKind {
   kDvl,     ///< "dvl": DVL dead reckoning from the configured origin (paper P0)
   kP1,      ///< "ins", "ekf15", "upf15", "mfins": a paper P1 navigator (p1_driver.hpp), NavdConfig::p1_navigator
   kP2,      ///< "p2": paper P2's cooperative localisation (p2_navigator.hpp), the p2_* keys
+  kP3,      ///< "p3-dr", "p3-ekf", "p3-ekf-kr": paper P3's crawler (p3_navigator.hpp), P3Config::method
 };
 
 /// Everything a config file sets.
@@ -46,9 +48,10 @@ struct NavdConfig {
   std::string p1_navigator;   ///< with kP1: the P1 navigator's name ("ins", "ekf15", "upf15", "mfins")
   estimator::P1Params p1;     ///< the p1_* keys (config_p1.hpp); seed from --seed
   P2Config p2;                ///< the p2_* keys (config_p2.hpp)
+  P3Config p3;                ///< the p3_* keys and, with kP3, the method (config_p3.hpp)
 };
 
-/// The navigator's name: "gps-ins", "dvl", "p2" or the P1 navigator's.
+/// The navigator's name: "gps-ins", "dvl", "p2", a P3 navigator's or the P1 navigator's.
 std::string navigator_name(const NavdConfig& config);
 
 /// Checks NavdParams ranges; the error names the field and the value.

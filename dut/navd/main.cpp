@@ -13,6 +13,7 @@
 // Exit codes: 0 SIGTERM/SIGINT, output hang-up, or every input at EOF/hang-up;
 //             2 bad usage or config (a DBC that cannot be loaded or disagrees with the code);
 //             3 a port or the CAN interface cannot be opened.
+#include <algorithm>
 #include <csignal>
 #include <cstdio>
 #include <exception>
@@ -89,7 +90,10 @@ std::string footer() {
          "counted by type, malformed bytes are dropped and counted by reason (checksum, "
          "framing, sync_bytes, overflow_bytes, fields). The estimate uses keller inputs, and "
          "under the dvl navigator the bottom-track velocity of nq1, pd0, pd6 and a50 inputs "
-         "(instrument frame = body frame; the last one decoded before each AHRS packet). "
+         "(instrument frame = body frame; the last one decoded before each AHRS packet); "
+         "under a P3 navigator (p3-dr, p3-ekf, p3-ekf-kr) the first ebimu input is the "
+         "trigger (no --ahrs): each line of p3_ebimu_values values is answered, named by its "
+         "ordinal, and the wheel encoders come from --can with --dbc. "
          "All inputs are read in the same loop, the AHRS first, and every aiding message is "
          "handled before the AHRS packets of the same wake-up.\n\n"
          "Keller depth sensor: navd is the bus master. It sends F48 (init) to address 250 "
@@ -140,8 +144,8 @@ int run(int argc, char** argv) {
   const auto bauds = nav::transport::SerialPort::supported_bauds();
   app.add_option("--ahrs", opt.ahrs_path,
                  "tty of the 3DM-GX3-25 AHRS streaming 0xCB packets; every packet is a "
-                 "trigger answered by one solution")
-      ->required();
+                 "trigger answered by one solution (required, but by the P3 navigators, whose "
+                 "trigger is the first --input of protocol ebimu)");
   app.add_option("--ahrs-baud", opt.ahrs_baud, "AHRS line rate [bit/s]")
       ->capture_default_str()
       ->check(CLI::IsMember(bauds));
@@ -263,6 +267,32 @@ int run(int argc, char** argv) {
     return kExitUsage;
   }
 
+  const bool p3 = config.navigator == nav::dut::NavigatorKind::kP3;
+  const bool has_ebimu =
+      std::any_of(opt.inputs.begin(), opt.inputs.end(), [](const nav::dut::InputSpec& i) {
+        return i.protocol == nav::dut::InputProtocol::kEbimu;
+      });
+  if (p3 && (!opt.ahrs_path.empty() || !has_ebimu || opt.can_iface.empty() ||
+             opt.dbc_path.empty())) {
+    std::fprintf(stderr,
+                 "navd: navigator %s: needs an --input NAME=ebimu:PATH (the trigger), --can "
+                 "and --dbc with the wheel encoder messages, and no --ahrs (see navd --help)\n",
+                 nav::dut::navigator_name(config).c_str());
+    return kExitUsage;
+  }
+  if (p3 && !(can_input && can_input->angle_per_tick(nav::protocols::wheel_encoder::Wheel::kLeft) &&
+              can_input->angle_per_tick(nav::protocols::wheel_encoder::Wheel::kRight))) {
+    std::fprintf(stderr, "navd: navigator %s: --dbc %s defines no WheelEncoderLeft and "
+                 "WheelEncoderRight messages (see fixtures/crawler.dbc)\n",
+                 nav::dut::navigator_name(config).c_str(), opt.dbc_path.c_str());
+    return kExitUsage;
+  }
+  if (!p3 && opt.ahrs_path.empty()) {
+    std::fprintf(stderr, "navd: --ahrs is required (navigator %s; see navd --help)\n",
+                 nav::dut::navigator_name(config).c_str());
+    return kExitUsage;
+  }
+
   std::signal(SIGPIPE, SIG_IGN);
   // Caught from here on: a SIGTERM while the ports open stops navd at its first wake-up,
   // with the summary, as one that comes later does.
@@ -282,14 +312,19 @@ int run(int argc, char** argv) {
     if (!port) std::fprintf(stderr, "navd: %s\n", port.error().detail.c_str());
     return port;
   };
-  auto ahrs = open_port(opt.ahrs_path, opt.ahrs_baud);
-  if (!ahrs) return kExitPort;
-  // A 3DM-GX3-25 streams only once told to: set continuous mode for the 0xCB reply
-  // (protocols.md 1a). Its 8-byte 0xC4 reply is skipped by the 0xCB hunt.
-  if (auto ok = ahrs->write_all(nav::protocols::gx3::encode_set_continuous(
-          nav::protocols::gx3::kCmdAccelRateMag));
-      !ok) {
-    std::fprintf(stderr, "navd: cannot start the AHRS stream: %s\n", ok.error().detail.c_str());
+  std::optional<nav::transport::SerialPort> ahrs;
+  if (!opt.ahrs_path.empty()) {
+    auto a = open_port(opt.ahrs_path, opt.ahrs_baud);
+    if (!a) return kExitPort;
+    ahrs.emplace(std::move(*a));
+    // A 3DM-GX3-25 streams only once told to: set continuous mode for the 0xCB reply
+    // (protocols.md 1a). Its 8-byte 0xC4 reply is skipped by the 0xCB hunt.
+    if (auto ok = ahrs->write_all(nav::protocols::gx3::encode_set_continuous(
+            nav::protocols::gx3::kCmdAccelRateMag));
+        !ok) {
+      std::fprintf(stderr, "navd: cannot start the AHRS stream: %s\n",
+                   ok.error().detail.c_str());
+    }
   }
   std::optional<nav::transport::SerialPort> gps;
   if (!opt.gps_path.empty()) {
@@ -317,7 +352,7 @@ int run(int argc, char** argv) {
   std::optional<nav::dut::CanPort> can;
   std::string can_text;
   if (can_input) {
-    // Receive timestamps are not used: nothing from CAN is fused yet.
+    // Receive timestamps are not used: the P3 navigators take the wheels by count, not time.
     nav::transport::CanSocketOptions can_options;
     can_options.timestamps = false;
     // Its controller's error reports too (bus errors, bus-off, restart): counted, survived.
@@ -335,13 +370,13 @@ int run(int argc, char** argv) {
 
   std::fprintf(stderr,
                "navd: running: ahrs=%s@%d gps=%s%s%s%s output=%s@%d config=%s delay=%d ms\n",
-               opt.ahrs_path.c_str(), opt.ahrs_baud,
+               opt.ahrs_path.empty() ? "none" : opt.ahrs_path.c_str(), opt.ahrs_baud,
                gps ? (opt.gps_path + "@" + std::to_string(opt.gps_baud)).c_str() : "none",
                extras_text.c_str(), modem_text.c_str(), can_text.c_str(), opt.output_path.c_str(),
                opt.output_baud, opt.config_path.empty() ? "defaults" : opt.config_path.c_str(),
                opt.delay_ms);
 
-  nav::dut::NavdApp navd(io, signals, opt, config, std::move(*ahrs), std::move(gps),
+  nav::dut::NavdApp navd(io, signals, opt, config, std::move(ahrs), std::move(gps),
                          std::move(extras), std::move(modem), std::move(can), std::move(*output));
   const std::string reason = navd.run();
   std::fprintf(stderr, "%s\n", navd.stats_line(reason).c_str());

@@ -36,12 +36,24 @@ estimator::AhrsSample to_sample(const protocols::gx3::AccelRateMag& m) {
   return s;
 }
 
-/// The $PNVBSOL of the navigator's estimate. A non-finite or out-of-range estimate is
-/// reported as DEGRADED with empty position fields rather than as numbers.
-protocols::navd::Solution to_solution(const estimator::NavSolution& nav, std::uint32_t tag,
-                                      std::uint64_t seq) {
+/// The codec's view of a received SocketCAN frame.
+protocols::can::Frame to_can_frame(const transport::CanFrame& f) {
+  protocols::can::Frame out;
+  out.id = f.id;
+  out.extended = f.extended;
+  out.rtr = f.rtr;
+  out.error = f.error;
+  out.dlc = f.dlc;
+  out.data = f.data;
+  return out;
+}
+
+}  // namespace
+
+protocols::navd::Solution to_solution(const estimator::NavSolution& nav, std::uint64_t tag,
+                                      std::uint64_t seq, const char* input) {
   protocols::navd::Solution s;
-  s.input = "AHRS";
+  s.input = input;
   s.trigger_tag = tag;
   s.seq = seq;
   s.status = nav.position_valid ? "OK" : "ALIGNING";
@@ -71,25 +83,12 @@ protocols::navd::Solution to_solution(const estimator::NavSolution& nav, std::ui
   return s;
 }
 
-/// The codec's view of a received SocketCAN frame.
-protocols::can::Frame to_can_frame(const transport::CanFrame& f) {
-  protocols::can::Frame out;
-  out.id = f.id;
-  out.extended = f.extended;
-  out.rtr = f.rtr;
-  out.error = f.error;
-  out.dlc = f.dlc;
-  out.data = f.data;
-  return out;
-}
-
-}  // namespace
-
 using Wait = DescriptorWatch::WaitType;
 
 NavdApp::NavdApp(boost::asio::io_context& io, boost::asio::signal_set& signals,
                  const NavdOptions& options, const NavdConfig& config,
-                 transport::SerialPort ahrs, std::optional<transport::SerialPort> gps,
+                 std::optional<transport::SerialPort> ahrs,
+                 std::optional<transport::SerialPort> gps,
                  std::vector<ExtraPort> extras, std::optional<transport::SerialPort> modem,
                  std::optional<CanPort> can, transport::SerialPort output)
     : io_(io),
@@ -99,8 +98,8 @@ NavdApp::NavdApp(boost::asio::io_context& io, boost::asio::signal_set& signals,
       ahrs_(std::move(ahrs)),
       gps_(std::move(gps)),
       output_(std::move(output)),
-      ahrs_watch_(io, ahrs_.fd()),
       output_watch_(io, output_.fd()),
+      ahrs_open_(ahrs_.has_value()),
       gps_open_(gps_.has_value()),
       ahrs_decoder_(&protocols::gx3::parse, protocols::gx3::kCmdAccelRateMag, kInputBufferBytes),
       gps_decoder_(&protocols::nmea::parse, static_cast<std::uint8_t>('$'), kInputBufferBytes),
@@ -108,6 +107,7 @@ NavdApp::NavdApp(boost::asio::io_context& io, boost::asio::signal_set& signals,
       params_(config.filter),
       can_(std::move(can)),
       can_open_(can_.has_value()) {
+  if (ahrs_) ahrs_watch_.emplace(io, ahrs_->fd());
   if (gps_) gps_watch_.emplace(io, gps_->fd());
   if (can_) can_watch_.emplace(io, can_->socket.fd());
   const estimator::FilterParams& params = config.filter;
@@ -124,6 +124,8 @@ NavdApp::NavdApp(boost::asio::io_context& io, boost::asio::signal_set& signals,
   } else if (config.navigator == NavigatorKind::kP2) {
     // main() checked the config and that --vehicle-id is one of the p2 vehicles.
     p2_nav_.emplace(params, config.attitude, config.p2, options.vehicle_id);
+  } else if (config.navigator == NavigatorKind::kP3) {
+    p3_nav_.emplace(params, config.p3);
   } else {
     gps_nav_.emplace(params, config.attitude);
   }
@@ -144,6 +146,9 @@ NavdApp::NavdApp(boost::asio::io_context& io, boost::asio::signal_set& signals,
     Extra x{std::move(e.port), std::move(watch),
             AidingInput(e.spec.name, e.spec.protocol, kInputBufferBytes), true, std::nullopt, 0};
     if (e.spec.protocol == InputProtocol::kKeller) x.poller.emplace(params.depth_poll_period_s);
+    if (p3_nav_ && !p3_trigger_ && e.spec.protocol == InputProtocol::kEbimu) {
+      p3_trigger_ = extras_.size();
+    }
     extras_.push_back(std::move(x));
   }
 }
@@ -166,6 +171,7 @@ void NavdApp::handle_keller_answers() {
         if (gps_nav_) gps_nav_->add_depth(depth_m);
         if (dvl_nav_) dvl_nav_->add_depth(depth_m);
         if (p2_nav_) p2_nav_->add_depth(depth_m);
+        if (p3_nav_) p3_nav_->add_depth(depth_m);
       }
     }
   }
@@ -195,13 +201,14 @@ void NavdApp::handle_p2() {
 }
 
 estimator::NavSolution NavdApp::nav_solution() const {
+  if (p3_nav_) return p3_nav_->solution();
   if (p1_nav_) return p1_nav_->solution();
   if (p2_nav_) return p2_nav_->solution();
   return gps_nav_ ? gps_nav_->solution() : dvl_nav_->solution();
 }
 
 estimator::AttitudeStatus NavdApp::attitude_status() const {
-  if (p1_nav_) return estimator::AttitudeStatus::kOk;  // P1 navigators count their faults
+  if (p1_nav_ || p3_nav_) return estimator::AttitudeStatus::kOk;  // they count their faults
   if (p2_nav_) return p2_nav_->navigation().last_attitude_status();
   return gps_nav_ ? gps_nav_->last_attitude_status() : dvl_nav_->last_attitude_status();
 }
@@ -304,7 +311,6 @@ bool NavdApp::handle_ahrs(const protocols::gx3::AccelRateMag& m) {
   if (attitude_status() == estimator::AttitudeStatus::kNumericalFault) {
     solution.status = "DEGRADED";
   }
-  if (!wait_delay()) return false;
   // The innovations of the updates made at this sample, then its covariance when the
   // navigator keeps one (neither with a DEGRADED solution), then the solution, in one write:
   // the bench has them when the solution arrives, and a trigger costs one pty hand-off back
@@ -329,6 +335,11 @@ bool NavdApp::handle_ahrs(const protocols::gx3::AccelRateMag& m) {
         gps_nav_ && gps_nav_->position_velocity() ? &*gps_nav_->position_velocity() : nullptr);
     if (cov) stated += protocols::navd::encode(*cov);
   }
+  return answer(std::move(stated), solution);
+}
+
+bool NavdApp::answer(std::string stated, const protocols::navd::Solution& solution) {
+  if (!wait_delay()) return false;
   stated += protocols::navd::encode(solution);
   if (auto ok = out_.push(std::move(stated)); !ok) {
     stop_reason_ = "output closed: " + ok.error().detail;
@@ -338,7 +349,7 @@ bool NavdApp::handle_ahrs(const protocols::gx3::AccelRateMag& m) {
 }
 
 void NavdApp::arm_waits() {
-  if (ahrs_open_) ahrs_watch_.arm(Wait::wait_read);
+  if (ahrs_open_) ahrs_watch_->arm(Wait::wait_read);
   if (gps_open_) gps_watch_->arm(Wait::wait_read);
   for (auto& e : extras_) {
     if (e.open) e.watch->arm(Wait::wait_read);
@@ -352,7 +363,7 @@ void NavdApp::arm_waits() {
 bool NavdApp::woken() const {
   const bool extra = std::any_of(extras_.begin(), extras_.end(),
                                  [](const Extra& e) { return e.watch->ready(Wait::wait_read); });
-  return !stop_reason_.empty() || ahrs_watch_.ready(Wait::wait_read) || extra ||
+  return !stop_reason_.empty() || (ahrs_watch_ && ahrs_watch_->ready(Wait::wait_read)) || extra ||
          (gps_watch_ && gps_watch_->ready(Wait::wait_read)) ||
          (can_watch_ && can_watch_->ready(Wait::wait_read)) ||
          (modem_watch_ && modem_watch_->ready(Wait::wait_read)) ||
@@ -373,8 +384,8 @@ void NavdApp::handle_wake() {
   ahrs_msgs_.clear();
   gps_msgs_.clear();
   // Trigger port first: aiding bytes that preceded a trigger seen now are readable below.
-  if (ahrs_watch_.take(Wait::wait_read)) {
-    read_port(ahrs_, ahrs_open_,
+  if (ahrs_watch_ && ahrs_watch_->take(Wait::wait_read)) {
+    read_port(*ahrs_, ahrs_open_,
               [this](protocols::ByteSpan b) { ahrs_decoder_.feed(b, ahrs_msgs_); });
   }
   if (gps_watch_ && gps_watch_->take(Wait::wait_read)) {
@@ -385,7 +396,7 @@ void NavdApp::handle_wake() {
     if (!e.watch->take(Wait::wait_read)) continue;
     read_port(e.port, e.open, [&e](protocols::ByteSpan b) { e.input.feed(b); });
   }
-  // CAN frames are decoded and counted as they are read (not fused): before any AHRS packet.
+  // CAN frames are decoded and counted as they are read: before any trigger of this wake.
   if (can_watch_ && can_watch_->take(Wait::wait_read)) read_can();
   // $PNVBPOS are only counted, kept and logged: their order against AHRS is moot. State
   // reports (p2) wait for handle_p2(), after the iUSBL fixes of this wake.
@@ -397,8 +408,14 @@ void NavdApp::handle_wake() {
   handle_keller_answers();
   handle_dvl_velocities();
   handle_p2();
+  handle_wheels();
   for (const auto& m : ahrs_msgs_) {
     if (!handle_ahrs(m)) return;
+  }
+  if (p3_trigger_) {
+    for (const auto& line : extras_[*p3_trigger_].input.take_ebimu_lines()) {
+      if (!handle_ebimu(line)) return;
+    }
   }
 
   (void)output_watch_.take(Wait::wait_write);  // flushed below whatever woke us
@@ -440,7 +457,7 @@ std::string NavdApp::run() {
   (void)out_.flush();  // best effort, never blocking
   if (ahrs_open_) {
     // Stop the GX3's continuous mode (no reply); best effort, never blocking.
-    (void)ahrs_.write_some(protocols::gx3::encode_stop_continuous());
+    (void)ahrs_->write_some(protocols::gx3::encode_stop_continuous());
   }
   return stop_reason_;
 }

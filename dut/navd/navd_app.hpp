@@ -34,6 +34,13 @@
 //                                               5. arm the waits of the ports read (and of
 //                                                  the output while sentences wait)
 //
+// The P3 navigators (p3-dr, p3-ekf, p3-ekf-kr, navd_p3.cpp) run without an AHRS port: their
+// trigger is the first --input of protocol ebimu. In step 2 the wheel encoder samples decoded
+// from CAN go to the navigator (other navigators drop them); in step 3 each EBIMU line of
+// p3_ebimu_values values, in arrival order, writes the Keller requests due at the P3 clock
+// (lines stepped / p3_ebimu_rate_hz), steps the navigator and writes one $PNVBSOL whose
+// trigger_tag is the line's ordinal (the LF bytes before it on that port).
+//
 // The handlers decide nothing: they run in whatever order the io_context hands them out,
 // and only mark; the fixed order of step 1 is the loop's. A signal stops navd before any
 // port of its wake-up is read, or during a --delay-ms sleep.
@@ -42,7 +49,7 @@
 // precede a trigger readable before it writes the trigger, so reading the trigger port first
 // and handling every aiding message before AHRS within a wake applies every fix at the same
 // trigger on every run (lockstep determinism). CAN frames are read like the --input ports,
-// before the AHRS packets of the same wake, though nothing from CAN is fused yet. For the
+// before the AHRS packets of the same wake (the P3 navigators fuse the wheel encoders). For the
 // polled Keller the bench stamps a request with the scenario time reached when it reads it,
 // so a request is written before the $PNVBSOL of the AHRS packet whose timer made it due:
 // the bench has it when the solution arrives, and the answer comes back before the next
@@ -67,6 +74,7 @@
 #include "nav/estimator/navigator.hpp"
 #include "nav/estimator/p1_driver.hpp"
 #include "nav/protocols/microstrain_gx3.hpp"
+#include "nav/protocols/navd_solution.hpp"
 #include "nav/protocols/nmea0183.hpp"
 #include "aiding_input.hpp"
 #include "can_input.hpp"
@@ -78,14 +86,21 @@
 #include "nav/transport/serial_port.hpp"
 #include "output_queue.hpp"
 #include "p2_navigator.hpp"
+#include "p3_navigator.hpp"
 #include "state_link.hpp"
 #include "stream_decoder.hpp"
 
 namespace nav::dut {
 
+/// The $PNVBSOL of a navigator's estimate answering trigger `tag` of the `input` role. A
+/// non-finite or out-of-range estimate is reported as DEGRADED with empty position fields
+/// rather than as numbers.
+protocols::navd::Solution to_solution(const estimator::NavSolution& nav, std::uint64_t tag,
+                                      std::uint64_t seq, const char* input = "AHRS");
+
 /// Command-line settings of navd.
 struct NavdOptions {
-  std::string ahrs_path;            ///< 3DM-GX3-25 tty
+  std::string ahrs_path;            ///< 3DM-GX3-25 tty; empty = none (P3 navigators only)
   int ahrs_baud = 115200;           ///< [bit/s]
   std::string gps_path;             ///< NMEA 0183 GPS tty; empty = no GPS
   int gps_baud = 9600;              ///< [bit/s]
@@ -129,11 +144,13 @@ struct CanPort {
 /// the waits on `io` refer to the app.
 class NavdApp {
  public:
-  /// Takes the opened ports (extras in options.inputs order; modem when options.modem is
-  /// set; can when options.can_iface is set). `signals` holds SIGTERM and SIGINT; `io`, on
+  /// Takes the opened ports (ahrs unless a P3 navigator runs without one; extras in
+  /// options.inputs order; modem when options.modem is set; can when options.can_iface is
+  /// set). A P3 navigator's trigger is the first EBIMU --input. `signals` holds SIGTERM and SIGINT; `io`, on
   /// which `signals` was made, is run by run() only and must outlive the app.
   NavdApp(boost::asio::io_context& io, boost::asio::signal_set& signals,
-          const NavdOptions& options, const NavdConfig& config, transport::SerialPort ahrs,
+          const NavdOptions& options, const NavdConfig& config,
+          std::optional<transport::SerialPort> ahrs,
           std::optional<transport::SerialPort> gps, std::vector<ExtraPort> extras,
           std::optional<transport::SerialPort> modem, std::optional<CanPort> can,
           transport::SerialPort output);
@@ -166,6 +183,14 @@ class NavdApp {
   /// Steps the navigator and writes one solution; false when a signal or output hang-up
   /// says to stop.
   bool handle_ahrs(const protocols::gx3::AccelRateMag& m);
+  /// P3: one EBIMU line of the trigger input, with its ordinal: Keller requests due, the
+  /// step, one solution. False when a signal or output hang-up says to stop.
+  bool handle_ebimu(const AidingInput::EbimuLine& line);
+  /// P3: the wheel samples decoded this wake into the navigator (others: dropped).
+  void handle_wheels();
+  /// Writes the innovations and covariance `stated` and then `solution` after --delay-ms;
+  /// false when a signal or output hang-up says to stop.
+  bool answer(std::string stated, const protocols::navd::Solution& solution);
   /// Sleeps --delay-ms on the io_context; false when a signal came meanwhile.
   bool wait_delay();
   /// Takes every waiting CAN frame (at most kCanFramesPerWake) into the CAN front end.
@@ -184,13 +209,13 @@ class NavdApp {
   boost::asio::steady_timer delay_timer_;  ///< --delay-ms
   bool delay_over_ = false;                ///< delay_timer_ expired
   NavdOptions options_;
-  transport::SerialPort ahrs_;
+  std::optional<transport::SerialPort> ahrs_;
   std::optional<transport::SerialPort> gps_;
   transport::SerialPort output_;
-  DescriptorWatch ahrs_watch_;                ///< read
+  std::optional<DescriptorWatch> ahrs_watch_;  ///< read; set with ahrs_
   std::optional<DescriptorWatch> gps_watch_;  ///< read; set with gps_
   DescriptorWatch output_watch_;  ///< error (hang-up), write (armed while sentences wait)
-  bool ahrs_open_ = true;
+  bool ahrs_open_ = false;
   bool gps_open_ = false;
   StreamDecoder<protocols::gx3::AccelRateMag> ahrs_decoder_;
   StreamDecoder<protocols::nmea::Sentence> gps_decoder_;
@@ -232,6 +257,9 @@ class NavdApp {
   std::optional<estimator::DvlNavigator> dvl_nav_;
   std::optional<estimator::P1Driver> p1_nav_;  ///< navigator: ins, ekf15, upf15, mfins (paper P1)
   std::optional<P2Navigator> p2_nav_;          ///< navigator: p2 (paper P2)
+  std::optional<P3Navigator> p3_nav_;  ///< navigator: p3-dr, p3-ekf, p3-ekf-kr (paper P3)
+  std::optional<std::size_t> p3_trigger_;  ///< P3: the index in extras_ of the EBIMU trigger
+  std::uint64_t p3_wrong_length_ = 0;  ///< P3: EBIMU lines not of p3_ebimu_values values
   /// The estimate of whichever navigator runs.
   estimator::NavSolution nav_solution() const;
   /// Status of the last attitude step of whichever navigator runs.

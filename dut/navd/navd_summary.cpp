@@ -67,6 +67,21 @@ std::string NavdApp::stats_line(const std::string& reason) const {
          " numerical_faults=" + std::to_string(nav.numerical_faults);
     return s;
   }
+  if (p3_nav_) {
+    const P3NavigatorCounts& c = p3_nav_->counts();
+    s += "; " + std::string(p3_method_name(p3_nav_->config().method)) +
+         " steps=" + std::to_string(c.steps) + " updates=" + std::to_string(c.updates) +
+         " x_used=" + std::to_string(c.x_used) +
+         " gated=" + std::to_string(p3_nav_->kinematic().gated()) +
+         " reseeds=" + std::to_string(p3_nav_->kinematic().reseeds()) +
+         " depths=" + std::to_string(c.depths) +
+         " steep_pitch=" + std::to_string(c.steep_pitch) +
+         " wheel_samples=" + std::to_string(c.wheel_samples) +
+         " wheel_invalid=" + std::to_string(c.wheel_invalid) +
+         " faults=" + std::to_string(c.faults) +
+         " ebimu_wrong_length=" + std::to_string(p3_wrong_length_);
+    return s;
+  }
   if (gps_nav_) {
     const auto& nav = gps_nav_->stats();
     s += "; filter ahrs_invalid=" + std::to_string(nav.ahrs_rejected_invalid) +
