@@ -284,6 +284,7 @@ void add_track_plots(const RunFolder& f, RunPlots& out) {
     errors.empty_note = "The DUT gave no solution with a valid position: no error to plot.";
   } else {
     const auto& checks = get_array(f.summary, "checks");
+    std::string horizontal_id;  // the first horizontal error plot
     for (const auto& q : kQuantities) {
       std::size_t made = 0;
       for (const auto& c : checks) {
@@ -291,10 +292,18 @@ void add_track_plots(const RunFolder& f, RunPlots& out) {
         const std::string id = "plot-check-" + std::to_string(&c - &checks[0]);
         errors.plots.push_back(error_plot(f, q, &c, faults, id));
         out.check_anchor[get_string(c, "name", "")] = id;
+        if (horizontal_id.empty() && std::string(q.kind) == "horizontal_error") horizontal_id = id;
         ++made;
       }
       if (made == 0) {
         errors.plots.push_back(error_plot(f, q, nullptr, faults, std::string("plot-") + q.kind));
+        if (std::string(q.kind) == "horizontal_error") horizontal_id = "plot-horizontal_error";
+      }
+    }
+    // A horizontal error at a given time is read on the horizontal error's plot.
+    for (const auto& c : checks) {
+      if (check_kind(c) == "horizontal_error_at" && !of_peer(f.summary, c)) {
+        out.check_anchor[get_string(c, "name", "")] = horizontal_id;
       }
     }
     add_peer_error_plots(f, faults, errors, out);

@@ -83,6 +83,35 @@ reports::CheckResult envelope_check(const CheckSpec& c, const std::vector<report
 double horizontal(const reports::AlignedSample& s) {
   return (s.est_p_n - s.truth_p_n).head<2>().norm();
 }
+
+/// horizontal_error_at: the horizontal error of the solution in force at c.at (the latest
+/// whose time of validity is not after it).
+reports::CheckResult point_check(const CheckSpec& c, const std::vector<reports::AlignedSample>& a,
+                                 std::optional<double> stopped_at_s) {
+  reports::CheckResult r = check_result(c, c.max, "m");
+  const double at_s = to_seconds(c.at);
+  if (stopped_at_s && *stopped_at_s < at_s) {
+    r.judged = false;
+    r.detail = fmt("not judged: the run was stopped at t=%.2f s, before t=%.2f s", *stopped_at_s, at_s);
+    return r;
+  }
+  // Sorted by time: the first sample after at_s, then the one before it.
+  const auto after = std::upper_bound(
+      a.begin(), a.end(), at_s + 1e-9,
+      [](double t, const reports::AlignedSample& s) { return t < s.t_s; });
+  if (after == a.begin()) {
+    r.detail = fmt("no solution with a valid position at or before t=%.2f s", at_s, 0.0);
+    return r;
+  }
+  const auto& s = *std::prev(after);
+  r.value = horizontal(s);
+  r.passed = r.value <= c.max;
+  r.worst_t_s = s.t_s;
+  r.detail = fmt("%.3f m at t=%.2f s", r.value, at_s) +
+             fmt(" (the solution of t=%.2f s; limit %.3f m)", s.t_s, c.max);
+  return r;
+}
+
 double vertical(const reports::AlignedSample& s) { return std::abs(s.est_p_n.z() - s.truth_p_n.z()); }
 double attitude(const reports::AlignedSample& s) {
   return attitude_error_angle(s.truth_q_nb, s.est_q_nb);
@@ -241,6 +270,9 @@ JudgeOutput judge(const JudgeInput& in) {
     switch (c.kind) {
       case CheckKind::kHorizontalError:
         out.checks.push_back(envelope_check(c, out.aligned, 1.0, "m", &horizontal, in.stopped_at_s));
+        break;
+      case CheckKind::kHorizontalErrorAt:
+        out.checks.push_back(point_check(c, out.aligned, in.stopped_at_s));
         break;
       case CheckKind::kVerticalError:
         out.checks.push_back(envelope_check(c, out.aligned, 1.0, "m", &vertical, in.stopped_at_s));

@@ -29,7 +29,8 @@ const std::vector<std::pair<std::string, CheckSpec::Kind>>& check_kinds() {
       {"deadline", Kind::kDeadline},
       {"dut_alive", Kind::kDutAlive},
       {"restart_recovery", Kind::kRestartRecovery},
-      {"consistency", Kind::kConsistency}};
+      {"consistency", Kind::kConsistency},
+      {"horizontal_error_at", Kind::kHorizontalErrorAt}};
   return kinds;
 }
 
@@ -67,6 +68,7 @@ CheckSpec read_check(const Field& item, const Scenario& s) {
     case Kind::kDutAlive: break;
     case Kind::kRestartRecovery: keys.insert(keys.end(), {"max"}); break;
     case Kind::kConsistency: keys.insert(keys.end(), {"of", "source", "after"}); break;
+    case Kind::kHorizontalErrorAt: keys.insert(keys.end(), {"max", "at"}); break;
   }
   const MapReader m(item, keys);
   const DutSpec* dut = &s.dut;
@@ -100,6 +102,19 @@ CheckSpec read_check(const Field& item, const Scenario& s) {
     case Kind::kEndpointError:
       c.max = m.required("max").quantity(Dimension::kLength, Bound::kPositive);
       break;
+    case Kind::kHorizontalErrorAt: {
+      c.max = m.required("max").quantity(Dimension::kLength, Bound::kPositive);
+      const Field at = m.required("at");
+      c.at = at.duration(Bound::kNonNegative);
+      if (c.at > s.duration) {
+        char buf[160];
+        std::snprintf(buf, sizeof buf,
+                      "expected a time within the scenario (duration %g s), got '%s'",
+                      to_seconds(s.duration), at.node().Scalar().c_str());
+        at.fail(buf);
+      }
+      break;
+    }
     case Kind::kAttitudeError:
       c.max = m.required("max").quantity(Dimension::kAngle, Bound::kPositive);
       break;

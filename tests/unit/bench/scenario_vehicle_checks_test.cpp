@@ -128,3 +128,46 @@ TEST(VehicleChecks, ACampaignCheckMayJudgeAPeersResult) {
 
 }  // namespace
 }  // namespace nav::bench
+
+namespace nav::bench {
+namespace {
+
+TEST(PointChecks, HorizontalErrorAtReadsItsTimeAndRefusesOneOutsideTheRun) {
+  const auto s = load_scenario(write_temp(
+      "at.yaml", two_vehicles("  - {kind: horizontal_error_at, max: 0.5 m, at: 4 s, name: a}\n"
+                              "  - {kind: horizontal_error_at, max: 1 m, at: 10 s, name: b, "
+                              "vehicle: bravo}\n"
+                              "  - {kind: quantile_source, max: 1 m}\n")));
+  ASSERT_FALSE(s);  // an unknown kind, listing the new one among the valid
+  EXPECT_NE(s.error().detail.find("horizontal_error_at"), std::string::npos) << s.error().detail;
+  const auto ok = load_scenario(write_temp(
+      "at-ok.yaml",
+      two_vehicles("  - {kind: horizontal_error_at, max: 0.5 m, at: 4 s, name: a}\n"
+                   "  - {kind: horizontal_error_at, max: 1 m, at: 10 s, name: b, "
+                   "vehicle: bravo}\n",
+                   "campaign:\n  checks:\n    - {kind: quantile, of: a, quantile: 95 %, "
+                   "max: 1 m, confidence: 90 %}\n")));
+  ASSERT_TRUE(ok) << ok.error().detail;
+  ASSERT_EQ(ok->checks.size(), 2u);
+  EXPECT_EQ(ok->checks[0].kind, CheckSpec::Kind::kHorizontalErrorAt);
+  EXPECT_EQ(ok->checks[0].at, std::chrono::seconds(4));
+  EXPECT_DOUBLE_EQ(ok->checks[0].max, 0.5);
+  EXPECT_EQ(checks_of_vehicle(*ok, 1)[0].name, "bravo.b");
+  const struct {
+    const char* check;
+    const char* says;
+  } bad[] = {
+      {"  - {kind: horizontal_error_at, max: 1 m, at: 11 s}\n",
+       ":26:47: checks[0].at: expected a time within the scenario (duration 10 s), got '11 s'"},
+      {"  - {kind: horizontal_error_at, max: 1 m}\n", "missing required key 'at'"},
+      {"  - {kind: horizontal_error_at, at: 1 s, after: 1 s, max: 1 m}\n", "'after'"},
+  };
+  for (const auto& b : bad) {
+    const auto r = load_scenario(write_temp("at-bad.yaml", two_vehicles(b.check)));
+    ASSERT_FALSE(r) << b.check;
+    EXPECT_NE(r.error().detail.find(b.says), std::string::npos) << r.error().detail;
+  }
+}
+
+}  // namespace
+}  // namespace nav::bench

@@ -208,6 +208,47 @@ struct RestartedDut {
   }
 };
 
+TEST_F(JudgeFixture, HorizontalErrorAtTakesTheSolutionInForceAtItsTime) {
+  const auto at = [](double max, std::chrono::milliseconds t, const char* name) {
+    CheckSpec c;
+    c.kind = CheckSpec::Kind::kHorizontalErrorAt;
+    c.max = max;
+    c.at = t;
+    c.name = name;
+    return c;
+  };
+  sc.checks = {at(0.6, 1500ms, "between"), at(0.4, 2000ms, "on_time"),
+               at(1.0, 500ms, "before_any"), at(0.6, 9000ms, "after_all")};
+  JudgeInput in;
+  in.scenario = &sc;
+  in.truth = table.get();
+  in.t0 = Timestamp{1'000'000'000};
+  for (std::uint64_t k = 0; k < 2; ++k) {
+    const double t = 1.0 + static_cast<double>(k);
+    in.triggers.push_back({100 + k, from_seconds(t), true, in.t0 + from_seconds(t)});
+  }
+  in.answers.push_back(answer_at(100, 1.0, Vec3(0.3, 0.4, 2.0), in.triggers[0].wire_end + 2ms));
+  in.answers.push_back(answer_at(101, 2.0, Vec3(0.0, 0.5, 0.0), in.triggers[1].wire_end + 2ms));
+  in.dut_status = "alive";
+  const JudgeOutput out = judge(in);
+  ASSERT_EQ(out.checks.size(), 4u);
+  EXPECT_EQ(out.checks[0].kind, "horizontal_error_at");
+  EXPECT_NEAR(out.checks[0].value, 0.5, 1e-6);  // t = 1.5 s: the solution of 1 s (depth ignored)
+  EXPECT_TRUE(out.checks[0].passed);
+  EXPECT_EQ(out.checks[0].worst_t_s, 1.0);
+  EXPECT_NEAR(out.checks[1].value, 0.5, 1e-6);  // t = 2 s: its own solution, over 0.4 m
+  EXPECT_FALSE(out.checks[1].passed);
+  EXPECT_FALSE(out.checks[2].passed);            // nothing yet at 0.5 s
+  EXPECT_NE(out.checks[2].detail.find("no solution with a valid position at or before"),
+            std::string::npos);
+  EXPECT_EQ(out.checks[3].worst_t_s, 2.0);       // at 9 s: the last one, of 2 s
+  // A run stopped before the time is not judged.
+  in.stopped_at_s = 1.7;
+  const JudgeOutput stopped = judge(in);
+  EXPECT_FALSE(stopped.checks[1].judged);
+  EXPECT_TRUE(stopped.checks[0].judged);
+}
+
 TEST_F(JudgeFixture, ARestartIsMeasuredToItsFirstValidSolutionAndItsGapIsNoDeadlineMiss) {
   sc.checks = {{CheckSpec::Kind::kDeadline, 0.010, 0.0, 0s, "ahrs", 0, "deadline"},
                {CheckSpec::Kind::kRestartRecovery, 0.5, 0.0, 0s, "", 0, "recovery"},

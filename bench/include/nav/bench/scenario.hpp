@@ -106,7 +106,7 @@ struct DutSpec {
 /// One check of the DUT's output against truth.
 struct CheckSpec {
   enum class Kind { kHorizontalError, kVerticalError, kAttitudeError, kEndpointError,
-                    kDeadline, kDutAlive, kRestartRecovery, kConsistency };
+                    kDeadline, kDutAlive, kRestartRecovery, kConsistency, kHorizontalErrorAt };
   Kind kind = Kind::kHorizontalError;
   double max = 0.0;  ///< limit [m], [rad]; deadline: latency [s]; restart_recovery: time [s]
   double max_per_distance = 0.0;  ///< envelope grows with distance travelled [m/m] (errors)
@@ -122,6 +122,7 @@ struct CheckSpec {
   /// The vehicle it judges: empty for the primary (a check without `vehicle`), a vehicle's
   /// name, or "all" (kAllVehicles): one result per vehicle.
   std::string vehicle{};
+  Duration at{0};  ///< horizontal_error_at: the scenario time it is judged at
 };
 
 /// CheckSpec::vehicle of a check that judges every vehicle.
