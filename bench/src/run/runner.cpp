@@ -39,6 +39,7 @@
 #include "nav/reports/run_record.hpp"
 #include "nav/reports/sha256.hpp"
 #include "nav/transport/can_socket.hpp"
+#include "run/can_claim.hpp"
 #include "run/can_sender.hpp"
 #include "run/clock.hpp"
 #include "run/device_streams.hpp"
@@ -450,7 +451,14 @@ int run_scenario(const RunOptions& o) {
     return kExitBench;
   }
   std::vector<transport::CanSocket> can;
+  std::vector<CanClaim> can_claims;  // held to the end of the run
   for (const auto& bus : sc->can_buses) {
+    auto claim = CanClaim::take(bus.interface);
+    if (!claim) {
+      std::fprintf(stderr, "navbench: %s\n", claim.error().detail.c_str());
+      return kExitBench;
+    }
+    can_claims.push_back(std::move(*claim));
     auto sock = transport::CanSocket::open(bus.interface);
     if (!sock) {
       std::fprintf(stderr, "navbench: %s: vehicle.can.interface: %s\n", sc->file.c_str(),
