@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "campaign_consistency.hpp"
+#include "campaign_tables.hpp"
 #include "html_page.hpp"
 #include "html_text.hpp"
 #include "json_get.hpp"
@@ -245,37 +246,6 @@ std::string comparison(const CampaignFolder& c) {
              "1); std is the sample standard deviation.</p></section>\n";
 }
 
-/// Every vehicle of the multi-vehicle cells (campaign.json `vehicles`); empty without any.
-std::string vehicles_table(const CampaignFolder& c) {
-  const auto& rows = get_array(c.campaign, "vehicles");
-  if (rows.empty()) return {};
-  std::string h = "<section id=\"vehicles\"><h2>Every vehicle</h2><div class=\"scroll\"><table>\n" +
-                  detail::header_row({"scenario", "variant", "vehicle", "runs",
-                                      "mean position error mean \u00b1 std [m]",
-                                      "improvement over the baseline"});
-  for (const auto& r : rows) {
-    const json& e = member(r, "mean_position_error_m");
-    std::string mean_std = detail::fixed(get_number(e, "mean"));
-    if (get_number(e, "std")) mean_std += " \u00b1 " + detail::fixed(get_number(e, "std"));
-    const std::string vehicle = get_string(r, "vehicle", "?");
-    std::string improvement = "\u2014";
-    if (const auto pct = get_number(r, "improvement_pct")) {
-      char buf[32];
-      std::snprintf(buf, sizeof buf, "%+.1f %%", *pct);
-      improvement = std::string(buf) + " (vs " + html_escape(get_string(r, "baseline", "?")) + ")";
-    }
-    h += detail::row({html_escape(get_string(r, "scenario", "?")),
-                      html_escape(get_string(r, "variant", "\u2014")),
-                      vehicle == "all" ? std::string("<b>all</b> (mean)") : html_escape(vehicle),
-                      detail::num(get_number(e, "n"), 10), mean_std, improvement},
-                     "tttnnn");
-  }
-  return h + "</table></div><p class=\"note\">Each vehicle's time-averaged 3-D position error "
-             "over the runs that reached the end; <b>all</b>: per run the mean over its "
-             "vehicles. Improvement: 100 (b \u2212 m) / b against the same vehicle in the "
-             "first variant's cell (positive is better).</p></section>\n";
-}
-
 /// The campaign's own checks: statements over each scenario's runs, with what the runs show.
 std::string campaign_checks(const CampaignFolder& c) {
   const auto& checks = get_array(c.campaign, "campaign_checks");
@@ -407,14 +377,16 @@ std::string campaign_report_html(const CampaignFolder& c) {
   if (!checks.empty()) body += "<a href=\"#campaign-checks\">campaign checks</a> ";
   if (!pairs.empty()) body += "<a href=\"#variants\">variants</a> ";
   body += "<a href=\"#comparison\">comparison</a> ";
-  const std::string vehicles = vehicles_table(c);
+  const std::string vehicles = detail::vehicles_table(c.campaign);
+  const std::string values = detail::check_values_table(c.campaign);
   if (!vehicles.empty()) body += "<a href=\"#vehicles\">every vehicle</a> ";
+  if (!values.empty()) body += "<a href=\"#check-values\">check values</a> ";
   body += "<a href=\"#distributions\">distributions</a> ";
   if (!get_array(c.campaign, "nees").empty() || !get_array(c.campaign, "nis").empty()) {
     body += "<a href=\"#consistency\">consistency</a> ";
   }
   body += "<a href=\"#runs\">runs</a></nav>\n<main>\n";
-  body += identity(c) + checks + pairs + comparison(c) + vehicles;
+  body += identity(c) + checks + pairs + comparison(c) + vehicles + values;
   body += "<section id=\"distributions\"><h2>Distributions over the seeds</h2>\n";
   std::size_t plot_no = 0;
   for (const auto& [title, group] : groups_of(sc)) {

@@ -172,6 +172,22 @@ TEST(NavbenchCampaign, ComparesTwoScenariosOverThreeSeeds) {
   EXPECT_EQ(csv[2].rfind("arc,stiff,rolling,it-campaign-arc,", 0), 0u) << csv[2];
   EXPECT_NE(md.find("campaign " + source_path(kStraight)), std::string::npos) << md;
   EXPECT_NE(md.find("Seeds 1\u20133 (3 per scenario)"), std::string::npos) << md;
+  // Every error check's value: the straight scenario's endpoint_error row is the same figure.
+  bool found = false;
+  for (const auto& v : campaign["check_values"]) {
+    if (v["scenario"] != "it-campaign-straight" || v["check"] != "endpoint_error") continue;
+    found = true;
+    EXPECT_EQ(v["unit"], "m");
+    EXPECT_EQ(v["values"]["n"], 3);
+    std::vector<double> e;
+    for (const auto& [seed, value] : endpoint["it-campaign-straight"]) e.push_back(value);
+    EXPECT_NEAR(v["values"]["mean"].get<double>(), (e[0] + e[1] + e[2]) / 3.0, 1e-12);
+  }
+  EXPECT_TRUE(found) << campaign["check_values"].dump();
+  EXPECT_NE(md.find("| it-campaign-straight | \u2014 | endpoint_error [m] | 3 | "),
+            std::string::npos) << md;
+  EXPECT_NE(r.out.find("Every error check's value"), std::string::npos) << r.out;
+  EXPECT_NE(html.find("<section id=\"check-values\">"), std::string::npos);
 
   // Determinism: seed 2 again, alone, gives the identical value.
   const auto again = run_navbench(

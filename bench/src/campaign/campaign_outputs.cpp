@@ -12,6 +12,7 @@
 #include "campaign/campaign_runs.hpp"
 #include "campaign/campaign_verdicts.hpp"
 #include "nav/bench/campaign.hpp"
+#include "nav/bench/campaign_check_values.hpp"
 #include "nav/bench/runner.hpp"
 #include "nav/common/version.hpp"
 #include "nav/reports/atomic_file.hpp"
@@ -137,6 +138,13 @@ std::optional<int> write_campaign_outputs(const fs::path& dir, const CampaignPla
   }
   const auto vehicles = vehicle_rows(vehicle_cells, runs);
   const std::string vehicles_md = vehicle_markdown(vehicles);
+  // Every error check's value, per cell.
+  std::vector<CheckValueCell> value_cells;
+  for (std::size_t c = 0; c < plan.cells(); ++c) {
+    value_cells.push_back({plan.cell_name(c), plan.variants.empty() ? "" : plan.variant_name(c)});
+  }
+  const auto check_values = check_value_rows(value_cells, results);
+  const std::string check_values_md = check_value_markdown(check_values);
   const auto verdicts = judge_campaign_checks(plan, results);
   std::string checks_text, checks_md;
   for (const auto& v : verdicts) {
@@ -175,7 +183,10 @@ std::optional<int> write_campaign_outputs(const fs::path& dir, const CampaignPla
       comparison_markdown(rows) +
       (vehicles_md.empty() ? ""
                            : "\nEvery vehicle's mean position error (time average of the 3-D "
-                             "error of its solutions):\n\n" + vehicles_md);
+                             "error of its solutions):\n\n" + vehicles_md) +
+      (check_values_md.empty() ? ""
+                               : "\nEvery error check's value over the runs that reached the "
+                                 "end:\n\n" + check_values_md);
   const std::string stdout_text =
       table + (checks_text.empty() ? "" : "\nCampaign checks:\n" + checks_text) +
       (pairs_text.empty() ? "" : "\nVariants paired by seed:\n" + pairs_text) +
@@ -269,6 +280,14 @@ std::optional<int> write_campaign_outputs(const fs::path& dir, const CampaignPla
          {"mean_position_error_m", stats(v.mean_position)},
          {"baseline", v.baseline.empty() ? json(nullptr) : json(v.baseline)},
          {"improvement_pct", v.improvement_pct ? json(*v.improvement_pct) : json(nullptr)}});
+  }
+  j["check_values"] = json::array();
+  for (const auto& v : check_values) {
+    j["check_values"].push_back({{"scenario", v.cell},
+                                 {"variant", v.variant.empty() ? json(nullptr) : json(v.variant)},
+                                 {"check", v.check},
+                                 {"unit", v.unit},
+                                 {"values", stats(v.values)}});
   }
   j["campaign_checks"] = json::array();
   for (const auto& v : verdicts) j["campaign_checks"].push_back(verdict_json(v));
