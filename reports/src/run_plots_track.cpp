@@ -3,8 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
+#include <optional>
+#include <tuple>
+#include <utility>
 
 #include "json_get.hpp"
+#include "nav/common/wall_frame.hpp"
 #include "nav/reports/decimate.hpp"
 #include "run_plots.hpp"
 
@@ -42,36 +47,79 @@ std::string vehicle_label(const VehicleFiles& v, const char* what) {
   return v.primary ? std::string(what) : v.name + " " + what;
 }
 
+/// How the track is drawn: north against east, or, for a vehicle on a wall (summary.json
+/// "wall"), down the wall (y′) against along it (x′) from the wall's origin (W1,
+/// nav/common/wall_frame.hpp), as one looks at the wall.
+struct TrackView {
+  std::optional<Mat3> R_nw;  ///< set: the wall's axes in NED
+  Vec3 origin = Vec3::Zero();
+
+  static TrackView of(const json& summary) {
+    TrackView v;
+    const json& w = member(summary, "wall");
+    const auto slope = get_number(w, "slope_deg"), azimuth = get_number(w, "azimuth_deg");
+    const json& o = member(w, "origin_ned_m");
+    if (!slope || !azimuth || !o.is_array() || o.size() != 3) return v;
+    for (int k = 0; k < 3; ++k) {
+      if (!o[static_cast<std::size_t>(k)].is_number()) return v;
+      v.origin(k) = o[static_cast<std::size_t>(k)].get<double>();
+    }
+    v.R_nw = wall_rotation(*slope * std::numbers::pi / 180.0, *azimuth * std::numbers::pi / 180.0);
+    return v;
+  }
+  /// The plotted (x, y) of a NED point.
+  std::pair<double, double> xy(double n, double e, double d) const {
+    if (!R_nw) return {e, n};
+    const Vec3 q = Vec3(n, e, d) - origin;
+    return {R_nw->col(0).dot(q), R_nw->col(1).dot(q)};
+  }
+  /// x and y columns of poses (the gaps' NaN kept).
+  void project(const Columns& c, std::vector<double>& x, std::vector<double>& y) const {
+    x.resize(c.t.size());
+    y.resize(c.t.size());
+    for (std::size_t k = 0; k < c.t.size(); ++k) std::tie(x[k], y[k]) = xy(c.n[k], c.e[k], c.d[k]);
+  }
+};
+
 json track_plot(const RunFolder& f, const std::vector<Window>& faults) {
-  json p = plot_frame("plot-track", "Track: estimate and truth, north against east", "xy",
-                      "east [m]", "north [m]", 440);
+  const TrackView view = TrackView::of(f.summary);
+  json p = view.R_nw
+               ? plot_frame("plot-track", "Track on the wall: estimate and truth, down the wall "
+                            "(y\u2032) against along it (x\u2032)", "xy",
+                            "along the wall x\u2032 [m]", "down the wall y\u2032 [m]", 440)
+               : plot_frame("plot-track", "Track: estimate and truth, north against east", "xy",
+                            "east [m]", "north [m]", 440);
   p["equal"] = true;
+  if (view.R_nw) p["y"]["invert"] = true;
+  std::vector<double> x, y;
   for (std::size_t i = 0; i < f.vehicles.size(); ++i) {
     const auto& v = f.vehicles[i];
     const char* truth_color = v.primary ? color::kTruth : "#9a9a9a";
     const std::string est_color = v.primary ? color::kEstimate : color::cycle(i + 3);
     if (v.has_truth && !v.truth.empty()) {
       const Columns c = columns(v.truth);
-      const auto keep = decimate_min_max(c.t, {&c.n, &c.e}, kPlotBuckets);
-      add_xy(p, {vehicle_label(v, "truth"), truth_color, "linear", v.primary ? 1.5 : 1.0}, c.e, c.n, keep);
+      view.project(c, x, y);
+      const auto keep = decimate_min_max(c.t, {&y, &x}, kPlotBuckets);
+      add_xy(p, {vehicle_label(v, "truth"), truth_color, "linear", v.primary ? 1.5 : 1.0}, x, y, keep);
     }
     if (v.has_estimate && !v.estimate.empty()) {
       Columns c = columns(v.estimate);
       break_gaps(c.t, {&c.n, &c.e, &c.d});
-      const auto keep = decimate_min_max(c.t, {&c.n, &c.e}, kPlotBuckets);
-      add_xy(p, {vehicle_label(v, "estimate"), est_color, "linear", 1.5}, c.e, c.n, keep);
+      view.project(c, x, y);
+      const auto keep = decimate_min_max(c.t, {&y, &x}, kPlotBuckets);
+      add_xy(p, {vehicle_label(v, "estimate"), est_color, "linear", 1.5}, x, y, keep);
       if (v.primary && !faults.empty()) {
         // The estimate while a fault was active, drawn over it.
-        Columns in;
+        std::vector<double> in_t, in_x, in_y;
         for (std::size_t k = 0; k < c.t.size(); ++k) {
           if (!in_window(c.t[k], faults)) continue;
-          in.t.push_back(c.t[k]);
-          in.n.push_back(c.n[k]);
-          in.e.push_back(c.e[k]);
+          in_t.push_back(c.t[k]);
+          in_x.push_back(x[k]);
+          in_y.push_back(y[k]);
         }
-        if (!in.t.empty()) {
-          const auto kin = decimate_min_max(in.t, {&in.n, &in.e}, kPlotBuckets);
-          add_xy(p, {"estimate during a fault", color::kFault, "points", 0, 3.5}, in.e, in.n, kin);
+        if (!in_t.empty()) {
+          const auto kin = decimate_min_max(in_t, {&in_y, &in_x}, kPlotBuckets);
+          add_xy(p, {"estimate during a fault", color::kFault, "points", 0, 3.5}, in_x, in_y, kin);
         }
       }
     }
@@ -79,12 +127,15 @@ json track_plot(const RunFolder& f, const std::vector<Window>& faults) {
     if (v.has_truth && !v.truth.empty()) {
       const auto& a = v.truth.front();
       const auto& b = v.truth.back();
-      add_xy(p, {vehicle_label(v, "start"), color::kStart, "points", 0, 9}, {a.e}, {a.n}, {0});
-      add_xy(p, {vehicle_label(v, "end (truth)"), truth_color, "points", 0, 9}, {b.e}, {b.n}, {0});
+      const auto [ax, ay] = view.xy(a.n, a.e, a.d);
+      const auto [bx, by] = view.xy(b.n, b.e, b.d);
+      add_xy(p, {vehicle_label(v, "start"), color::kStart, "points", 0, 9}, {ax}, {ay}, {0});
+      add_xy(p, {vehicle_label(v, "end (truth)"), truth_color, "points", 0, 9}, {bx}, {by}, {0});
     }
     if (v.has_estimate && !v.estimate.empty()) {
       const auto& b = v.estimate.back();
-      add_xy(p, {vehicle_label(v, "end (estimate)"), est_color, "points", 0, 9}, {b.e}, {b.n}, {0});
+      const auto [bx, by] = view.xy(b.n, b.e, b.d);
+      add_xy(p, {vehicle_label(v, "end (estimate)"), est_color, "points", 0, 9}, {bx}, {by}, {0});
     }
   }
   return p;

@@ -124,6 +124,11 @@ void write_summary(const RunRecord& r, const std::string& dir) {
                    {"sha256", string_or_null(r.scenario_sha256)},
                    {"description", r.scenario_description}};
   j["host"] = {{"name", string_or_null(r.host)}, {"kernel", string_or_null(r.kernel)}};
+  if (r.wall) {
+    j["wall"] = {{"slope_deg", r.wall->slope_deg},
+                 {"azimuth_deg", r.wall->azimuth_deg},
+                 {"origin_ned_m", r.wall->origin_ned_m}};
+  }
   j["labels"] = json::object();
   for (const auto& [name, value] : r.labels) j["labels"][name] = value;
   j["seed"] = r.seed;

@@ -6,6 +6,7 @@
 #include <optional>
 
 #include "nav/bench/judge.hpp"
+#include "nav/common/units.hpp"
 #include "nav/bench/runner.hpp"
 
 namespace nav::bench::detail {
@@ -131,6 +132,12 @@ reports::RunRecord make_run_record(const RunFacts& f, const RunIdentity& id) {
   rec.labels.assign(sc.labels.begin(), sc.labels.end());
   rec.mode = sc.mode == TimeMode::kRealtime ? "realtime" : "lockstep";
   rec.seed = sc.seed;
+  if (sc.wall) {
+    const Vec3& o = sc.trajectory.start_p_n;
+    rec.wall = reports::RunRecord::Wall{units::rad_to_deg(sc.wall->slope_rad),
+                                        units::rad_to_deg(sc.wall->azimuth_rad),
+                                        {o.x(), o.y(), o.z()}};
+  }
   rec.duration_s = to_seconds_exact(sc.duration);  // 60 s is 60, not 60.00000000000001
   rec.stopped_at_s = in.stopped_at_s;
   rec.dut_command = primary.argv;

@@ -90,6 +90,28 @@ TEST(RunReport, EmbeddedNumbersRoundTrip) {
                           [](const nlohmann::json& v) { return v.is_null(); }));
 }
 
+TEST(RunReport, AVehicleOnAWallIsDrawnOnTheWall) {
+  // A wall facing South (x′ East, y′ down): the track is along the wall against down it,
+  // from the wall's origin, down drawn downwards.
+  RunRecord r = synthetic_run(30, 10);
+  r.wall = RunRecord::Wall{90.0, 90.0, {1.0, 2.0, 3.0}};
+  const auto plots = embedded_plots(report_of(r, "wall"));
+  const auto& track = *plot_by_id(plots, "plot-track");
+  EXPECT_NE(track["title"].get<std::string>().find("Track on the wall"), std::string::npos);
+  EXPECT_EQ(track["y"]["invert"], true);
+  const auto& truth = track["data"][0];
+  const auto& rows = r.vehicles[0].truth;
+  ASSERT_EQ(truth[0].size(), rows.size());
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    EXPECT_NEAR(truth[0][k].get<double>(), rows[k].p_n.y() - 2.0, 1e-5) << k;  // x′ = east
+    EXPECT_NEAR(truth[1][k].get<double>(), rows[k].p_n.z() - 3.0, 1e-5) << k;  // y′ = down
+  }
+  // Without a wall: north against east, as ever.
+  const auto flat = embedded_plots(report_of(synthetic_run(30, 10), "flat"));
+  EXPECT_NE((*plot_by_id(flat, "plot-track"))["title"].get<std::string>().find("north against east"),
+            std::string::npos);
+}
+
 TEST(RunReport, HostileTextIsEscapedEverywhere) {
   RunRecord r = synthetic_run(10, 10);
   r.scenario_description = "<script>alert(1)</script>";

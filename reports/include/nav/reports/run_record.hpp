@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <array>
 #include <optional>
 #include <string>
 #include <utility>
@@ -271,6 +272,14 @@ struct RunRecord {
   std::vector<MalformedOutput> malformed_examples;  ///< the first malformed pieces of output
   std::vector<LogCut> logs_cut;                     ///< logs the DUTs filled past the limit
   std::vector<RestartRow> restarts;                 ///< the primary DUT's restart faults
+  /// The plane the primary vehicle drives on (vehicle.wall), for the report's view of the
+  /// track on it; nullopt for a swimming or rolling vehicle.
+  struct Wall {
+    double slope_deg = 90.0;    ///< α
+    double azimuth_deg = 0.0;   ///< β, direction of x′
+    std::array<double, 3> origin_ned_m{};  ///< where on the wall its x′, y′ start (NED)
+  };
+  std::optional<Wall> wall;
   std::vector<CheckResult> checks;
   Stats bench_lateness;             ///< realtime only (count 0 in lockstep)
   double lateness_budget_p99_s = 0.0;
