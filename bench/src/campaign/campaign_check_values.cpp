@@ -24,7 +24,7 @@ std::string fixed(double v) {
 }  // namespace
 
 std::vector<CheckValueRow> check_value_rows(
-    const std::vector<CheckValueCell>& cells,
+    const std::vector<CampaignCell>& cells,
     const std::vector<std::optional<CampaignResult>>& results) {
   std::vector<CheckValueRow> rows;
   for (const auto& cell : cells) {

@@ -128,22 +128,18 @@ std::optional<int> write_campaign_outputs(const fs::path& dir, const CampaignPla
     table_scenarios.emplace_back(plan.cell_name(c), std::move(labels));
   }
   const auto rows = comparison_rows(table_scenarios, runs);
-  // Every vehicle of the multi-vehicle cells, against the first variant of the scenario.
-  std::vector<VehicleCell> vehicle_cells;
+  // Every cell, with the first variant of its scenario as the per-vehicle baseline.
+  std::vector<CampaignCell> cells;
   for (std::size_t c = 0; c < plan.cells(); ++c) {
     const std::size_t baseline = plan.scenario_of(c);  // the cell of variant 0
-    vehicle_cells.push_back({plan.cell_name(c), plan.variant_name(c),
-                             plan.variants.size() > 1 && baseline != c ? plan.cell_name(baseline)
-                                                                       : std::string()});
+    cells.push_back({plan.cell_name(c), plan.variant_name(c),
+                     plan.variants.size() > 1 && baseline != c ? plan.cell_name(baseline)
+                                                               : std::string()});
   }
-  const auto vehicles = vehicle_rows(vehicle_cells, runs);
+  const auto vehicles = vehicle_rows(cells, runs);
   const std::string vehicles_md = vehicle_markdown(vehicles);
   // Every error check's value, per cell.
-  std::vector<CheckValueCell> value_cells;
-  for (std::size_t c = 0; c < plan.cells(); ++c) {
-    value_cells.push_back({plan.cell_name(c), plan.variants.empty() ? "" : plan.variant_name(c)});
-  }
-  const auto check_values = check_value_rows(value_cells, results);
+  const auto check_values = check_value_rows(cells, results);
   const std::string check_values_md = check_value_markdown(check_values);
   const auto verdicts = judge_campaign_checks(plan, results);
   std::string checks_text, checks_md;

@@ -52,7 +52,7 @@ std::string fixed(double v, const char* format) {
 
 }  // namespace
 
-std::vector<VehicleRow> vehicle_rows(const std::vector<VehicleCell>& cells,
+std::vector<VehicleRow> vehicle_rows(const std::vector<CampaignCell>& cells,
                                      const std::vector<CampaignRun>& runs) {
   std::map<std::string, CellValues> by_cell;
   bool several = false;

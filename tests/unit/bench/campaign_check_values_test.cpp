@@ -29,7 +29,7 @@ TEST(CampaignCheckValues, EachErrorCheckOverTheRunsThatReachedTheEnd) {
       std::nullopt,                       // not finished
       result("u-kr", kExitPass, 0.1, 0)};
   const auto rows =
-      check_value_rows({{"u-ekf", "ekf"}, {"u-kr", "kr"}, {"u-none", "none"}}, results);
+      check_value_rows({{"u-ekf", "ekf", ""}, {"u-kr", "kr", ""}, {"u-none", "none", ""}}, results);
   ASSERT_EQ(rows.size(), 4u);
   EXPECT_EQ(rows[0].cell, "u-ekf");
   EXPECT_EQ(rows[0].check, "point_1");

@@ -198,7 +198,7 @@ CampaignRun fleet_run(const std::string& cell, int exit_code,
 }
 
 TEST(VehicleRows, EveryVehicleAndTheirMeanAgainstTheBaselineVariant) {
-  const std::vector<VehicleCell> cells{{"pair-nav", "nav", ""},
+  const std::vector<CampaignCell> cells{{"pair-nav", "nav", ""},
                                        {"pair-fix", "fix", "pair-nav"},
                                        {"solo-nav", "nav", ""}};
   const std::vector<CampaignRun> runs{

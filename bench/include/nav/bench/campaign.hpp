@@ -161,10 +161,10 @@ std::string comparison_csv(const std::vector<ComparisonRow>& rows);
 /// position [m] and attitude [deg] errors, with 3 decimals; an undefined value is "—".
 std::string comparison_markdown(const std::vector<ComparisonRow>& rows);
 
-/// A cell of the per-vehicle table: its name (a run's CampaignRun::scenario), its variant
-/// ("" without variants) and the cell its improvement is measured against ("" for none: the
-/// baseline itself, or no variants).
-struct VehicleCell {
+/// A cell of the campaign's tables (per vehicle, every check's value): its name (a run's
+/// CampaignRun::scenario), its variant ("" without variants) and the cell the per-vehicle
+/// improvement is measured against ("" for none: the baseline itself, or no variants).
+struct CampaignCell {
   std::string name;
   std::string variant;
   std::string baseline;
@@ -185,7 +185,7 @@ struct VehicleRow {
 
 /// Rows of every cell whose runs judged two vehicles or more (cells in the order given, then
 /// each vehicle in the runs' order, then `all`); empty when no cell has several vehicles.
-std::vector<VehicleRow> vehicle_rows(const std::vector<VehicleCell>& cells,
+std::vector<VehicleRow> vehicle_rows(const std::vector<CampaignCell>& cells,
                                      const std::vector<CampaignRun>& runs);
 
 /// A markdown table: scenario, variant, vehicle, runs, mean position error "mean ± std" [m],

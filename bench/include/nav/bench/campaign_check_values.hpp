@@ -25,15 +25,9 @@ struct CheckValueRow {
   SampleStats values;   ///< over the runs that reached the end (exit 0 or 1) and measured it
 };
 
-/// A cell of the table: its name and variant ("" without variants).
-struct CheckValueCell {
-  std::string name;
-  std::string variant;
-};
-
 /// Rows in the order of `cells`, then of each check's first appearance in the cell's runs.
 std::vector<CheckValueRow> check_value_rows(
-    const std::vector<CheckValueCell>& cells,
+    const std::vector<CampaignCell>& cells,
     const std::vector<std::optional<CampaignResult>>& results);
 
 /// A markdown table: scenario, variant, check [unit], runs, "mean ± std", min, max with 3
