@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "config_p2.hpp"
 
+#include "config_number.hpp"
+
 #include <array>
 #include <cmath>
 
@@ -8,12 +10,6 @@ namespace nav::dut {
 namespace {
 
 using estimator::P2Observation;
-
-/// A whole number in [lo, hi] as an int; otherwise lo − 1 (which validate() refuses).
-int whole_or_invalid(double v, int lo, int hi) {
-  const bool whole = std::isfinite(v) && v == std::floor(v) && v >= lo && v <= hi;
-  return whole ? static_cast<int>(v) : lo - 1;
-}
 
 constexpr std::size_t index_of(P2Observation o) { return static_cast<std::size_t>(o); }
 

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "config_p3.hpp"
 
+#include "config_number.hpp"
+
 #include <array>
 #include <cmath>
 #include <numbers>
@@ -35,10 +37,7 @@ const std::array<P3Field, 15> kFields = {{
      NAV_P3_SCALAR(ebimu_rate_hz)},
     {"p3_ebimu_values", "values per EBIMU line, Euler angles first, whole, [3, 10]",
      [](const P3Config& c) { return static_cast<double>(c.ebimu_values); },
-     [](P3Config& c, double v) {
-       const bool whole = std::isfinite(v) && v == std::floor(v) && v >= 3.0 && v <= 10.0;
-       c.ebimu_values = whole ? static_cast<int>(v) : 0;
-     }},
+     [](P3Config& c, double v) { c.ebimu_values = whole_or_invalid(v, 3, 10); }},
     {"p3_wall_slope_rad", "alpha, the wall's slope (pi/2 = vertical), (0, pi/2] [rad]",
      NAV_P3_SCALAR(wall_slope_rad)},
     {"p3_wall_azimuth_rad", "beta, direction of the wall's x' axis (0 = North) [rad]",

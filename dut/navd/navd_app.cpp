@@ -161,6 +161,12 @@ void NavdApp::write_request(Extra& e, const protocols::Bytes& request) {
   if (!n || *n != request.size()) ++e.write_errors;
 }
 
+void NavdApp::write_due_requests(std::uint32_t timer_ticks) {
+  for (auto& e : extras_) {
+    if (e.poller) write_request(e, e.poller->on_ahrs(timer_ticks));
+  }
+}
+
 void NavdApp::handle_keller_answers() {
   for (auto& e : extras_) {
     if (!e.poller) continue;
@@ -285,10 +291,7 @@ bool NavdApp::wait_delay() {
 }
 
 bool NavdApp::handle_ahrs(const protocols::gx3::AccelRateMag& m) {
-  // Requests due at this sample go out before its solution (lockstep: see navd_app.hpp).
-  for (auto& e : extras_) {
-    if (e.poller) write_request(e, e.poller->on_ahrs(m.timer_ticks));
-  }
+  write_due_requests(m.timer_ticks);
   if (gps_nav_) gps_nav_->on_ahrs(to_sample(m));
   if (dvl_nav_) dvl_nav_->on_ahrs(to_sample(m));
   if (p1_nav_) p1_nav_->on_ahrs(to_sample(m));

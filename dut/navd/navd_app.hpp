@@ -232,6 +232,9 @@ class NavdApp {
   };
   /// Writes a Keller request to its port without blocking (a short write is counted).
   void write_request(Extra& e, const protocols::Bytes& request);
+  /// Writes every Keller request due at the trigger of `timer_ticks` (the AHRS timer, or the
+  /// P3 clock), before that trigger's solution (lockstep: see above).
+  void write_due_requests(std::uint32_t timer_ticks);
   /// Hands every decoded Keller answer to its poller; P1 values become queued depths.
   void handle_keller_answers();
   std::vector<Extra> extras_;  ///< in command-line order

@@ -21,10 +21,7 @@ bool NavdApp::handle_ebimu(const AidingInput::EbimuLine& line) {
     ++p3_wrong_length_;
     return true;
   }
-  // Requests due at this line go out before its solution (lockstep: see navd_app.hpp).
-  for (auto& e : extras_) {
-    if (e.poller) write_request(e, e.poller->on_ahrs(p3_nav_->clock_ticks()));
-  }
+  write_due_requests(p3_nav_->clock_ticks());
   const auto& v = line.line.values;
   p3_nav_->on_ebimu({v[0], v[1], v[2]});
   const auto solution = to_solution(p3_nav_->solution(), line.ordinal, seq_++, "EBIMU");

@@ -88,7 +88,7 @@ class P3Navigator {
   const P3NavigatorCounts& counts() const { return counts_; }
   const P3Config& config() const { return config_; }
   const estimator::P3KinematicX& kinematic() const { return kinematic_; }
-  /// The wall state and covariance, nullopt before the start.
+  /// The wall state [x, y, θ], nullopt before the start.
   std::optional<estimator::P3Vec> wall_state() const;
 
  private:
