@@ -18,6 +18,15 @@
 // GGA/RMC bytes unchanged; hdt draws n6 (heading noise) after n5 every epoch, so switching it
 // on changes the GGA/RMC noise from the second epoch on (one engine per device).
 //
+// Time-correlated position error (the wander of a real receiver's fix: multipath,
+// atmosphere, satellite geometry), added to p~_n with or without a fix, from an engine of its
+// own (device_seed(seed, "gps/gauss-markov")), so the white draws above are unchanged:
+//   G1  b_0 = [σ_h m1, σ_h m2, σ_v m3]                          stationary from the start
+//   G2  b_k = φ_k b_{k−1} + √(1 − φ_k²) [σ_h m1, σ_h m2, σ_v m3],  φ_k = e^(−(t_k − t_{k−1})/τ)
+// with m1..m3 ~ N(0, 1) drawn every epoch. So E[b b] = σ² and the autocorrelation at lag τ
+// is e^(−1) (tests/unit/emulators/gps_emulator_test.cpp). RMC's speed and course stay the
+// white-noised truth: a receiver's velocity comes from Doppler, not from its positions.
+//
 // Options:
 //   vtg: VTG (NMEA >= 3.01 form) with the RMC's course and speed (same noisy velocity): course
 //        true as in RMC, magnetic course empty, SOG in knots and km/h, mode A; without a fix
@@ -102,6 +111,13 @@ std::vector<WireMessage> generate_gps(const GpsConfig& cfg, const Truth& truth,
   NAV_ENSURE(cfg.reacquisition.count() >= 0, "GPS reacquisition must be >= 0");
   NAV_ENSURE(std::isfinite(cfg.heading_std_rad) && cfg.heading_std_rad >= 0.0,
              "GPS heading_std_rad must be finite and >= 0");
+  NAV_ENSURE(std::isfinite(cfg.correlated_horizontal_std_m) &&
+                 cfg.correlated_horizontal_std_m >= 0.0 &&
+                 std::isfinite(cfg.correlated_vertical_std_m) &&
+                 cfg.correlated_vertical_std_m >= 0.0,
+             "GPS correlated error standard deviations must be finite and >= 0");
+  NAV_ENSURE(std::isfinite(cfg.correlation_time_s) && cfg.correlation_time_s > 0.0,
+             "GPS correlation_time_s must be > 0");
   for (const MeasurementFault& f : cfg.measurement_faults) {
     NAV_ENSURE(f.start <= f.end, "GPS measurement fault window end must not precede its start");
     NAV_ENSURE(std::isfinite(f.scale) && std::isfinite(f.bias) && f.jump_n_m.allFinite(),
@@ -111,6 +127,12 @@ std::vector<WireMessage> generate_gps(const GpsConfig& cfg, const Truth& truth,
   const geodesy::LocalTangentPlane ltp(
       geodesy::Geodetic{cfg.datum_lat_rad, cfg.datum_lon_rad, cfg.datum_alt_m});
   std::mt19937_64 rng(seed);
+  const bool correlated = cfg.correlated_horizontal_std_m > 0.0 || cfg.correlated_vertical_std_m > 0.0;
+  std::mt19937_64 gm_rng(device_seed(seed, "gps/gauss-markov"));
+  const Vec3 gm_std(cfg.correlated_horizontal_std_m, cfg.correlated_horizontal_std_m,
+                    cfg.correlated_vertical_std_m);
+  std::optional<Vec3> wander_n;         ///< b_k [m]
+  std::optional<Duration> wander_t;     ///< t_{k−1}
   std::optional<double> last_cog_deg;
   std::optional<Duration> last_deep_t;    ///< epoch time of the previous epoch, if it was deep
   std::optional<Duration> surfaced_at;    ///< last surfacing after a dive
@@ -126,6 +148,19 @@ std::vector<WireMessage> generate_gps(const GpsConfig& cfg, const Truth& truth,
     const double noise_vn = cfg.velocity_std_mps * standard_normal(rng);
     const double noise_ve = cfg.velocity_std_mps * standard_normal(rng);
     const double noise_heading = cfg.hdt ? cfg.heading_std_rad * standard_normal(rng) : 0.0;
+    if (correlated) {
+      Vec3 m;
+      for (int i = 0; i < 3; ++i) m(i) = standard_normal(gm_rng);
+      const Vec3 drive = gm_std.cwiseProduct(m);
+      if (!wander_n) {
+        wander_n = drive;                                                          // G1
+      } else {
+        const double phi = std::exp(-to_seconds(t_valid - *wander_t) / cfg.correlation_time_s);
+        *wander_n = phi * *wander_n + std::sqrt(1.0 - phi * phi) * drive;          // G2
+      }
+      wander_t = t_valid;
+      noise_p_n += *wander_n;
+    }
 
     const bool shallow = s.p_n.z() <= cfg.max_depth_for_fix_m;
     if (shallow && last_deep_t) {

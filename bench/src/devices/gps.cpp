@@ -28,7 +28,7 @@ void read_gps(const MapReader& m, const geodesy::Geodetic& datum, emulators::Gps
   c.datum_lon_rad = datum.lon_rad;
   c.datum_alt_m = datum.alt_m;
   if (auto v = m.optional("errors")) {
-    const MapReader e(*v, {"horizontal", "vertical", "velocity", "heading"});
+    const MapReader e(*v, {"horizontal", "vertical", "velocity", "heading", "correlated"});
     if (auto x = e.optional("horizontal")) {
       c.horizontal_std_m = x->quantity(Dimension::kLength, Bound::kNonNegative);
     }
@@ -40,6 +40,16 @@ void read_gps(const MapReader& m, const geodesy::Geodetic& datum, emulators::Gps
     }
     if (auto x = e.optional("heading")) {
       c.heading_std_rad = x->quantity(Dimension::kAngle, Bound::kNonNegative);
+    }
+    if (auto x = e.optional("correlated")) {
+      const MapReader g(*x, {"horizontal", "vertical", "time"});
+      if (auto h = g.optional("horizontal")) {
+        c.correlated_horizontal_std_m = h->quantity(Dimension::kLength, Bound::kNonNegative);
+      }
+      if (auto h = g.optional("vertical")) {
+        c.correlated_vertical_std_m = h->quantity(Dimension::kLength, Bound::kNonNegative);
+      }
+      c.correlation_time_s = to_seconds(g.required("time").duration(Bound::kPositive));
     }
   }
   if (auto v = m.optional("talker")) {

@@ -188,6 +188,12 @@ struct GpsConfig {
   bool zda = false;                    ///< also emit ZDA each epoch
   Duration reacquisition{0};           ///< no fix this long after surfacing [ns]
   double heading_std_rad = 0.0;        ///< HDT white noise [rad]
+  /// Time-correlated position error, a first-order Gauss–Markov process per axis (G1, G2 in
+  /// gps_emulator.cpp): its stationary 1-σ per horizontal axis and vertical [m], and its
+  /// correlation time τ [s]. 0 σ: none.
+  double correlated_horizontal_std_m = 0.0;
+  double correlated_vertical_std_m = 0.0;
+  double correlation_time_s = 60.0;
   std::vector<MeasurementFault> measurement_faults;  ///< gps_jump; `wrong` on kVelocity
 };
 
