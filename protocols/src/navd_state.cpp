@@ -28,6 +28,7 @@
 #include <Eigen/Cholesky>
 
 #include "nav/common/ensure.hpp"
+#include "nav/protocols/little_endian.hpp"
 
 namespace nav::protocols::navd_state {
 namespace {
@@ -67,35 +68,14 @@ using Counts = std::array<std::int16_t, kCorrelationCount>;
 constexpr std::array<double, kStateSize> kStdScale = {
     kStdMetresScale, kStdMetresScale, kStdMetresScale, kStdRadiansScale, kStdRadiansScale};
 
-std::string hex8(std::uint8_t v) {
-  static constexpr char kDigits[] = "0123456789ABCDEF";
-  return std::string{"0x"} + kDigits[v >> 4] + kDigits[v & 0xF];
-}
-
-std::string hex16(std::uint16_t v) {
-  return hex8(static_cast<std::uint8_t>(v >> 8)) + hex8(static_cast<std::uint8_t>(v)).substr(2);
-}
+using le::get_i16;
+using le::get_i32;
+using le::get_u16;
+using le::hex16;
+using le::hex8;
 
 /// Appends the n low bytes of v, least significant first.
-void put_le(Bytes& out, std::uint32_t v, std::size_t n) {
-  for (std::size_t i = 0; i < n; ++i) out.push_back(static_cast<std::uint8_t>(v >> (8 * i)));
-}
-
-std::uint32_t get_le(ByteSpan b, std::size_t offset, std::size_t n) {
-  std::uint32_t v = 0;
-  for (std::size_t i = 0; i < n; ++i) v |= static_cast<std::uint32_t>(b[offset + i]) << (8 * i);
-  return v;
-}
-
-std::uint16_t get_u16(ByteSpan b, std::size_t offset) {
-  return static_cast<std::uint16_t>(get_le(b, offset, 2));
-}
-std::int16_t get_i16(ByteSpan b, std::size_t offset) {
-  return static_cast<std::int16_t>(get_u16(b, offset));
-}
-std::int32_t get_i32(ByteSpan b, std::size_t offset) {
-  return static_cast<std::int32_t>(get_le(b, offset, 4));
-}
+void put_le(Bytes& out, std::uint32_t v, std::size_t n) { le::put(out, v, n); }
 
 /// value·scale rounded to the nearest integer, if finite and within [lo, hi].
 std::optional<double> count_within(double value, double scale, double lo, double hi) {
@@ -311,7 +291,7 @@ Result<StateReport> decode_fields(ByteSpan f) {
   const std::uint8_t flags = f[kOffsetFlags];
   r.attitude_valid = (flags & kFlagAttitudeValid) != 0;
   r.covariance_valid = (flags & kFlagCovarianceValid) != 0;
-  r.t_s = get_le(f, kOffsetTime, 4) / kTimeScale;
+  r.t_s = le::get_u32(f, kOffsetTime) / kTimeScale;
 
   const std::int32_t lat = get_i32(f, kOffsetLat);
   if (lat < -kMaxLatCount || lat > kMaxLatCount) {
@@ -366,17 +346,7 @@ ParseResult<StateReport> malformed(std::size_t consumed, std::string error) {
 
 }  // namespace
 
-std::uint16_t crc16(ByteSpan bytes) {
-  std::uint16_t crc = 0xFFFF;
-  for (const std::uint8_t b : bytes) {
-    crc = static_cast<std::uint16_t>(crc ^ (b << 8));
-    for (int bit = 0; bit < 8; ++bit) {
-      crc = (crc & 0x8000u) != 0 ? static_cast<std::uint16_t>((crc << 1) ^ 0x1021u)
-                                 : static_cast<std::uint16_t>(crc << 1);
-    }
-  }
-  return crc;
-}
+std::uint16_t crc16(ByteSpan bytes) { return le::crc16_ccitt_false(bytes); }
 
 bool encodable(const StateReport& r) {
   return fields_encodable(r) && (!r.covariance_valid || correlation_counts(r.covariance));
