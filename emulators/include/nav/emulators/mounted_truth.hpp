@@ -40,6 +40,9 @@ class MountedTruth final : public Truth {
  public:
   MountedTruth(std::shared_ptr<const Truth> body, const Mount& mount);
   TruthSample at(Duration t) const override;
+  /// The vehicle's water and wind: a device sees the sea its vehicle is in.
+  Vec3 water_velocity_n(Duration t) const override { return body_->water_velocity_n(t); }
+  Vec3 wind_velocity_n(Duration t) const override { return body_->wind_velocity_n(t); }
 
  private:
   /// The body's angular acceleration at t, in b [rad/s^2].

@@ -36,6 +36,13 @@ class Truth {
   virtual ~Truth() = default;
   /// Truth at scenario time t >= 0.
   virtual TruthSample at(Duration t) const = 0;
+  /// The water's velocity over ground at the body at scenario time t, NED [m/s]: what the
+  /// body moves through (a current, the orbital motion of waves). Still water unless the kind
+  /// models the sea (sea_state_truth.hpp). A device mount sees its vehicle's.
+  virtual Vec3 water_velocity_n(Duration /*t*/) const { return Vec3::Zero(); }
+  /// The wind over ground at the body at scenario time t, NED [m/s]. Calm unless the kind
+  /// models it.
+  virtual Vec3 wind_velocity_n(Duration /*t*/) const { return Vec3::Zero(); }
 
  protected:
   Truth() = default;
