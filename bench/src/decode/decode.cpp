@@ -40,6 +40,9 @@ const std::vector<ProtocolDecoder>& protocol_decoders() {
       {"evologics-usbl",
        "EvoLogics USBLLONG / USBLANGLES notifications (and navbench's NVBRELATT)",
        &detail::parse_evologics_usbl, std::nullopt},
+      {"beacon-ins",
+       "navbench's beacon INS frames (paper P4: accelerometer, yaw and pitch gyros, compass)",
+       &detail::parse_beacon_ins, std::nullopt},
       {detail::kNmea2000,
        "NMEA 2000 candump logs (-l lines or screen print): 127250, 127251, 127257, 128259, "
        "128267, 129025, 129026, 129029 decoded, fast packets reassembled, other PGNs raw",

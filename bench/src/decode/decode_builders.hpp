@@ -64,6 +64,8 @@ protocols::ParseResult<json> parse_ebimu(protocols::ByteSpan b);
 protocols::ParseResult<json> parse_keller_bus(protocols::ByteSpan b);
 /// EvoLogics USBLLONG / USBLANGLES notifications.
 protocols::ParseResult<json> parse_evologics_usbl(protocols::ByteSpan b);
+/// Paper P4's beacon INS frames.
+protocols::ParseResult<json> parse_beacon_ins(protocols::ByteSpan b);
 
 // decode_can.cpp
 /// Name of the candump-log decoder, which decode_stream() runs line by line.

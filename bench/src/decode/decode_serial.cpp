@@ -1,11 +1,12 @@
 // SPDX-License-Identifier: MIT
 // JSON builders of `navbench decode` for the other serial devices: EBIMU AHRS lines, the Keller
-// RS-485 bus and EvoLogics USBL notifications. Values are converted to SI (deg/s -> rad/s,
+// RS-485 bus, EvoLogics USBL notifications and paper P4's beacon INS frames. Values are converted to SI (deg/s -> rad/s,
 // g -> m/s^2, µs -> s).
 #include <string>
 
 #include "decode/decode_builders.hpp"
 #include "nav/common/units.hpp"
+#include "nav/protocols/beacon_ins.hpp"
 #include "nav/protocols/ebimu.hpp"
 #include "nav/protocols/evologics_usbl.hpp"
 #include "nav/protocols/keller_bus.hpp"
@@ -191,6 +192,21 @@ ParseResult<json> parse_evologics_usbl(protocols::ByteSpan b) {
   json j = std::visit(UsblJson{}, r.message->fix);
   j["framing"] = r.message->framing == evo::Framing::kDataMode ? "data" : "command";
   return with(r, std::move(j));
+}
+
+ParseResult<json> parse_beacon_ins(protocols::ByteSpan b) {
+  namespace bi = protocols::beacon_ins;
+  const auto r = bi::parse(b);
+  if (r.status != ParseStatus::kComplete) return with(r, {});
+  const bi::Sample& m = *r.message;
+  return with(r, json{{"type", "beacon_ins"},
+                      {"timer_ticks", m.timer_ticks},
+                      {"timer_s", m.timer_ticks / bi::kTimerHz},
+                      {"sequence", m.sequence},
+                      {"accel_mps2", {m.accel_x_mps2, m.accel_y_mps2, m.accel_z_mps2}},
+                      {"yaw_rate_radps", m.yaw_rate_radps},
+                      {"pitch_rate_radps", m.pitch_rate_radps},
+                      {"heading_rad", m.heading_rad}});
 }
 
 }  // namespace nav::bench::detail

@@ -144,5 +144,6 @@ const DeviceKind& keller_kind();
 const DeviceKind& acoustic_modem_kind();
 const DeviceKind& nmea2000_kind();
 const DeviceKind& wheel_encoders_kind();
+const DeviceKind& beacon_ins_kind();
 
 }  // namespace nav::bench::detail

@@ -19,6 +19,7 @@ const std::vector<const DeviceKind*>& device_kinds() {
       &acoustic_modem_kind(),
       &nmea2000_kind(),
       &wheel_encoders_kind(),
+      &beacon_ins_kind(),
   };
   return kinds;
 }

@@ -38,6 +38,9 @@ constexpr std::array kMagneticFieldUnits{Unit{"T", 1.0}, Unit{"uT", 1e-6}, Unit{
 constexpr std::array kPressureUnits{Unit{"Pa", 1.0}, Unit{"hPa", 1e2}, Unit{"kPa", 1e3},
                                     Unit{"bar", 1e5}, Unit{"mbar", 1e2}};
 constexpr std::array kDensityUnits{Unit{"kg/m^3", 1.0}, Unit{"kg/m3", 1.0}};
+constexpr std::array kAreaUnits{Unit{"m^2", 1.0}, Unit{"m2", 1.0}, Unit{"cm^2", 1e-4},
+                                Unit{"cm2", 1e-4}};
+constexpr std::array kForceUnits{Unit{"N", 1.0}, Unit{"kN", 1e3}};
 /// Temperatures stay in degC (the only unit): K would need an offset, not a factor.
 constexpr std::array kTemperatureUnits{Unit{"degC", 1.0}};
 
@@ -52,7 +55,7 @@ struct DimensionInfo {
   bool walk;  ///< units are those of `units` followed by kWalkSuffix
 };
 
-const std::array<DimensionInfo, 14> kDimensions{{
+const std::array<DimensionInfo, 16> kDimensions{{
     {Dimension::kTime, "a duration", "20 s", kTimeUnits, false},
     {Dimension::kLength, "a length", "2.5 m", kLengthUnits, false},
     {Dimension::kSpeed, "a speed", "1.5 m/s", kSpeedUnits, false},
@@ -70,6 +73,8 @@ const std::array<DimensionInfo, 14> kDimensions{{
     {Dimension::kPressure, "a pressure", "1013.25 hPa", kPressureUnits, false},
     {Dimension::kDensity, "a density", "1025 kg/m^3", kDensityUnits, false},
     {Dimension::kTemperature, "a temperature", "10 degC", kTemperatureUnits, false},
+    {Dimension::kArea, "an area", "0.15 m^2", kAreaUnits, false},
+    {Dimension::kForce, "a force", "20 N", kForceUnits, false},
 }};
 
 const DimensionInfo& info(Dimension dim) {

@@ -46,6 +46,8 @@ enum class Dimension {
   kPressure,           ///< [Pa]
   kDensity,            ///< mass density [kg/m^3]
   kTemperature,        ///< temperature or temperature difference [degC]
+  kArea,               ///< [m^2]
+  kForce,              ///< [N]
 };
 
 /// What the dimension is, with an example: "a duration such as '20 s'".

@@ -27,7 +27,8 @@ using namespace std::chrono_literals;
 // Every `type` docs/scenario.md lists.
 constexpr const char* kEveryType[] = {"microstrain-gx3-25", "nmea0183-gps", "dvl",
                                       "ebimu-9dof", "evologics-usbl", "iusbl", "keller-rs485",
-                                      "acoustic-modem", "nmea2000", "wheel-encoders"};
+                                      "acoustic-modem", "nmea2000", "wheel-encoders",
+                                      "beacon-ins"};
 
 bool has_key(const DeviceKind& k, const std::string& key) {
   return std::find(k.keys.begin(), k.keys.end(), key) != k.keys.end();
@@ -99,6 +100,8 @@ TEST(DeviceKinds, DefaultsAsDocumented) {
   EXPECT_EQ(acoustic_modem_kind().keys,
             (std::vector<std::string>{"name", "type", "port", "baud"}));
   EXPECT_EQ(wheel_encoders_kind().latency, 1ms);
+  EXPECT_EQ(beacon_ins_kind().baud, 115200);
+  EXPECT_EQ(beacon_ins_kind().rate_hz, 50.0);
   // Only the GX3 streams once commanded.
   for (const auto* k : device_kinds()) {
     EXPECT_EQ(k->commanded, k == &gx3_kind()) << k->name;
@@ -111,7 +114,7 @@ TEST(DeviceKinds, DefaultsAsDocumented) {
 TEST(DeviceKinds, TheKindsWhoseMessagesADutCanNameMayTrigger) {
   // docs/dut-contract.md section 4: a rule per kind, serial or CAN as the kind's link.
   const std::set<const DeviceKind*> triggers{&gx3_kind(), &ebimu_kind(), &nmea2000_kind(),
-                                             &wheel_encoders_kind()};
+                                             &wheel_encoders_kind(), &beacon_ins_kind()};
   for (const auto* k : device_kinds()) {
     EXPECT_EQ(k->may_trigger(), triggers.count(k) == 1) << k->name;
     if (!k->may_trigger()) continue;
@@ -120,6 +123,7 @@ TEST(DeviceKinds, TheKindsWhoseMessagesADutCanNameMayTrigger) {
     EXPECT_EQ(k->trigger.of_message != nullptr, k->link == Link::kStream) << k->name;
   }
   EXPECT_EQ(gx3_kind().trigger.wraps_after, 0u);
+  EXPECT_EQ(beacon_ins_kind().trigger.wraps_after, 0u);
   EXPECT_EQ(ebimu_kind().trigger.wraps_after, 0u);
   EXPECT_EQ(nmea2000_kind().trigger.wraps_after, 253u);   // SID 0..252
   EXPECT_EQ(wheel_encoders_kind().trigger.wraps_after, 16u);  // a 4-bit MsgCounter
@@ -129,6 +133,15 @@ emulators::WireMessage message_of(const std::string& text) {
   emulators::WireMessage m;
   m.bytes.assign(text.begin(), text.end());
   return m;
+}
+
+TEST(DeviceKinds, BeaconInsTriggerTagIsTheFrameTimerAsSent) {
+  DeviceSpec d;
+  emulators::WireMessage m;
+  m.trigger_tag = 200000;
+  EXPECT_EQ(beacon_ins_kind().trigger.of_message(d, m, 3), 200000u);
+  m.trigger_tag.reset();  // a frame a fault destroyed
+  EXPECT_FALSE(beacon_ins_kind().trigger.of_message(d, m, 3).has_value());
 }
 
 TEST(DeviceKinds, Gx3TriggerTagIsThePacketTimerAsSent) {

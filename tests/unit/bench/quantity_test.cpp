@@ -73,6 +73,8 @@ INSTANTIATE_TEST_SUITE_P(
         Case{"1025 kg/m^3", Dimension::kDensity, 1025.0},
         Case{"998 kg/m3", Dimension::kDensity, 998.0},
         Case{"-1.5 degC", Dimension::kTemperature, -1.5},
+        Case{"0.15 m^2", Dimension::kArea, 0.15}, Case{"1500 cm2", Dimension::kArea, 0.15},
+        Case{"20 N", Dimension::kForce, 20.0}, Case{"0.02 kN", Dimension::kForce, 20.0},
         // random walks
         Case{"0.05 mg/sqrt(s)", Dimension::kAccelerationWalk, 0.05e-3 * kG},
         Case{"0.001 m/s^2/sqrt(s)", Dimension::kAccelerationWalk, 0.001},
@@ -127,7 +129,9 @@ INSTANTIATE_TEST_SUITE_P(
         Bad{"1 s s", Dimension::kTime, "unknown unit 's s'"},
         Bad{"1 m", Dimension::kPressure, "'m' is a length unit; units: Pa, hPa, kPa, bar, mbar"},
         Bad{"1 bar", Dimension::kDensity, "'bar' is a pressure unit; units: kg/m^3, kg/m3"},
-        Bad{"283 K", Dimension::kTemperature, "unknown unit 'K'; units: degC"}));
+        Bad{"283 K", Dimension::kTemperature, "unknown unit 'K'; units: degC"},
+        Bad{"2 m", Dimension::kArea, "'m' is a length unit; units: m^2, m2, cm^2, cm2"},
+        Bad{"20 kg", Dimension::kForce, "unknown unit 'kg'; units: N, kN"}));
 
 TEST(ParseNumber, AcceptsPlainDecimalsOnly) {
   EXPECT_EQ(parse_number("42"), 42.0);
