@@ -281,13 +281,24 @@ Result<VehicleTruths> build_truths(const Scenario& sc) {
       }
       path = std::make_shared<const emulators::WallTruth>(std::move(*on_wall));
     }
+    const std::string& name = v == 0 ? sc.vehicle_name : sc.peers[v - 1].vehicle_name;
+    const auto& sea = v == 0 ? sc.sea : sc.peers[v - 1].sea;
+    if (sea) {
+      // The sea-state truth kind: the path is where the thrusters hold the craft.
+      auto craft = emulators::SeaStateTruth::build(
+          path, *sea, emulators::device_seed(sc.seed, "sea." + name), spec.gravity_mps2);
+      if (!craft) {
+        const std::string& at = v == 0 ? sc.sea_location : sc.peers[v - 1].sea_location;
+        return fail(ErrorCode::kInvalidArgument, at + ": " + craft.error().detail);
+      }
+      path = std::make_shared<const emulators::SeaStateTruth>(std::move(*craft));
+    }
     const auto& hand = v == 0 ? sc.hand_guided : sc.peers[v - 1].hand_guided;
     if (!hand) {
       truths.push_back(std::move(path));
       continue;
     }
     // The hand-guided truth kind: the path is where the hands mean the rig to go.
-    const std::string& name = v == 0 ? sc.vehicle_name : sc.peers[v - 1].vehicle_name;
     auto rig = emulators::HandGuidedTruth::build(
         path, *hand, emulators::device_seed(sc.seed, "hand_guided." + name),
         spec.gravity_mps2, sc.duration);

@@ -255,6 +255,8 @@ void read_peers(const Field& f, Scenario& s) {
     p.hand_guided = tmp.hand_guided;
     p.hand_guided_location = std::move(tmp.hand_guided_location);
     p.wall = tmp.wall;
+    p.sea = tmp.sea;
+    p.sea_location = std::move(tmp.sea_location);
     p.devices = std::move(tmp.devices);
     p.dut = std::move(tmp.dut);
     p.segment_locations = std::move(tmp.segment_locations);

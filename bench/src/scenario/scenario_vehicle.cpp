@@ -86,6 +86,45 @@ emulators::HandGuidedSpec read_hand_guided(const Field& f) {
   return h;
 }
 
+/// vehicle.sea.wind (docs/scenario.md): {speed, from, drift_factor}.
+emulators::WindSpec read_wind(const Field& f) {
+  const MapReader m(f, {"speed", "from", "drift_factor"});
+  emulators::WindSpec w;
+  w.speed_mps = m.required("speed").quantity(Dimension::kSpeed, Bound::kNonNegative);
+  w.from_rad = m.required("from").quantity(Dimension::kAngle, Bound::kAny);
+  if (auto v = m.optional("drift_factor")) {
+    w.drift_factor = v->ratio();
+    if (w.drift_factor > 0.1) {
+      v->fail("expected a drift factor from 0 to 10 % of the wind speed, got " +
+              quoted(v->node().Scalar()));
+    }
+  }
+  return w;
+}
+
+/// vehicle.sea (docs/scenario.md): a JONSWAP sea and the wind over it.
+emulators::SeaSpec read_sea(const Field& f) {
+  const MapReader m(f, {"significant_height", "peak_period", "from", "gamma", "components",
+                        "wind", "free_drift"});
+  emulators::SeaSpec s;
+  s.spectrum.significant_height_m =
+      m.required("significant_height").quantity(Dimension::kLength, Bound::kNonNegative);
+  s.spectrum.peak_period_s = m.required("peak_period").quantity(Dimension::kTime, Bound::kPositive);
+  s.from_rad = m.required("from").quantity(Dimension::kAngle, Bound::kAny);
+  if (auto v = m.optional("gamma")) {
+    const std::string expected = "a JONSWAP peak enhancement from 1 (Pierson-Moskowitz) to 7";
+    const auto g = parse_number(v->text(expected));
+    if (!g || !(*g >= 1.0 && *g <= 7.0)) {
+      v->fail("expected " + expected + " such as 3.3, got " + quoted(v->node().Scalar()));
+    }
+    s.spectrum.gamma = *g;
+  }
+  if (auto v = m.optional("components")) s.components = v->integer<std::size_t>(1, 4096);
+  if (auto v = m.optional("wind")) s.wind = read_wind(*v);
+  if (auto v = m.optional("free_drift")) s.free_drift = v->boolean();
+  return s;
+}
+
 /// What the vehicle is doing between segments: speed and depth carry over.
 struct PathCursor {
   double speed_mps = 0.0;  ///< the vehicle starts at rest
@@ -207,7 +246,7 @@ CanBusSpec read_can(const Field& f, Duration run) {
 
 void read_vehicle(const Field& f, Scenario& s) {
   const MapReader m(f, {"name", "start", "max_accel", "arc_transition", "motion", "hand_guided",
-                       "wall", "seabed", "path", "can", "devices"});
+                       "wall", "sea", "seabed", "path", "can", "devices"});
   auto& t = s.trajectory;
   if (auto v = m.optional("name")) s.vehicle_name = v->identifier();
   if (auto v = m.optional("start")) read_start(*v, t);
@@ -235,6 +274,21 @@ void read_vehicle(const Field& f, Scenario& s) {
       wall.azimuth_rad = azimuth->quantity(Dimension::kAngle, Bound::kAny);
     }
     s.wall = wall;
+  }
+  if (auto v = m.optional("sea")) {
+    // One truth kind at a time: a craft in waves is neither on a wall nor carried by hand, and
+    // `motion` is a sinusoidal sea state of its own.
+    for (const char* other : {"wall", "hand_guided", "motion"}) {
+      if (m.has(other)) {
+        v->fail(std::string("cannot be combined with vehicle.") + other +
+                " (one truth kind at a time)");
+      }
+    }
+    if (t.start_p_n.z() != 0.0) {
+      v->fail("a craft in waves floats at the surface: vehicle.start.depth must be 0 m");
+    }
+    s.sea = read_sea(*v);
+    s.sea_location = location(s.file, v->mark());
   }
   // Local normal gravity at the datum, as the vehicle's accelerometers would feel it.
   t.gravity_mps2 = geodesy::normal_gravity(s.datum.lat_rad, s.datum.alt_m);
@@ -272,6 +326,9 @@ void read_vehicle(const Field& f, Scenario& s) {
     s.segment_locations.push_back(location(s.file, item.mark()));
     if (s.wall && t.segments.back().kind == emulators::Segment::Kind::kDepth) {
       item.fail("a vehicle on a wall drives on it: straight, arc and turn segments only");
+    }
+    if (s.sea && t.segments.back().kind == emulators::Segment::Kind::kDepth) {
+      item.fail("a craft in waves floats at the surface: straight, arc and turn segments only");
     }
   }
 

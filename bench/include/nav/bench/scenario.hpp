@@ -19,6 +19,7 @@
 #include "nav/emulators/device.hpp"
 #include "nav/emulators/faults.hpp"
 #include "nav/emulators/hand_guided_truth.hpp"
+#include "nav/emulators/sea_state_truth.hpp"
 #include "nav/emulators/wall_truth.hpp"
 #include "nav/emulators/mounted_truth.hpp"
 #include "nav/emulators/truth.hpp"
@@ -169,6 +170,8 @@ struct PeerSpec {
   std::optional<emulators::HandGuidedSpec> hand_guided;  ///< as Scenario::hand_guided
   std::string hand_guided_location;                      ///< as Scenario::hand_guided_location
   std::optional<emulators::WallSpec> wall;               ///< as Scenario::wall
+  std::optional<emulators::SeaSpec> sea;                 ///< as Scenario::sea
+  std::string sea_location;                              ///< as Scenario::sea_location
   std::vector<DeviceSpec> devices;
   DutSpec dut;
   std::vector<std::string> segment_locations;  ///< as Scenario::segment_locations
@@ -225,6 +228,10 @@ struct Scenario {
   /// path is drawn on the plane, `start` is the path's origin on it (NED) and its heading the
   /// direction on the wall from x′ towards y′; nullopt: a swimming or rolling vehicle.
   std::optional<emulators::WallSpec> wall;
+  /// vehicle.sea: the vehicle is a craft floating in waves, held on its path by its thrusters
+  /// (the sea-state truth kind, sea_state_truth.hpp); nullopt: no waves.
+  std::optional<emulators::SeaSpec> sea;
+  std::string sea_location;  ///< "file:line:col" of vehicle.sea (errors)
   std::vector<DeviceSpec> devices;
   DutSpec dut;
   std::vector<CheckSpec> checks;

@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: MIT
 // What every truth kind gives: the vehicle's (or a device's) full motion at any scenario time.
 //
-// A truth kind is one way a vehicle moves: path segments with a speed profile (truth.hpp,
-// today's only kind), and next a hand-guided rig, a crawler on a wall plane, a craft in waves.
+// A truth kind is one way a vehicle moves: path segments with a speed profile (truth.hpp), a
+// hand-guided rig (hand_guided_truth.hpp), a crawler on a wall plane (wall_truth.hpp), a craft
+// in waves (sea_state_truth.hpp).
 // Every device generator, the judge and the reactive devices read motion through this
 // interface only, so a new kind is a new class and nothing else changes for them. A kind must
 // give a consistent set: v_n the derivative of p_n, a_n of v_n, omega_b the body rate of q_nb,
