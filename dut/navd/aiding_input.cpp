@@ -18,13 +18,14 @@ namespace ebimu = protocols::ebimu;
 namespace evo = protocols::evologics;
 namespace nmea = protocols::nmea;
 namespace keller = protocols::keller;
+namespace beacon = protocols::beacon_ins;
 
 struct ProtocolEntry {
   InputProtocol protocol;
   std::string_view name;
 };
 
-constexpr std::array<ProtocolEntry, 8> kProtocols = {{
+constexpr std::array<ProtocolEntry, 9> kProtocols = {{
     {InputProtocol::kNq1, "nq1"},
     {InputProtocol::kPd0, "pd0"},
     {InputProtocol::kPd6, "pd6"},
@@ -33,6 +34,7 @@ constexpr std::array<ProtocolEntry, 8> kProtocols = {{
     {InputProtocol::kUsbl, "usbl"},
     {InputProtocol::kNmea, "nmea"},
     {InputProtocol::kKeller, "keller"},
+    {InputProtocol::kBeaconIns, "beacon-ins"},
 }};
 
 constexpr std::size_t kMaxNameLength = 32;
@@ -175,6 +177,8 @@ AidingInput::Decoder AidingInput::make_decoder(InputProtocol protocol, std::size
       return StreamDecoder<evo::Notification>(&evo::parse, &usbl_sync, max_buffer);
     case InputProtocol::kKeller:
       return StreamDecoder<keller::Response>(&keller::parse_response, &keller_sync, max_buffer);
+    case InputProtocol::kBeaconIns:
+      return StreamDecoder<beacon::Sample>(&beacon::parse, beacon::kSync1, max_buffer);
     case InputProtocol::kNmea:
       break;
   }
@@ -214,6 +218,18 @@ void AidingInput::feed(protocols::ByteSpan bytes) {
         for (const auto& m : msgs) on_message(m);
       },
       decoder_);
+}
+
+std::vector<beacon::Sample> AidingInput::take_beacon_frames() {
+  std::vector<beacon::Sample> out;
+  out.swap(beacon_frames_);
+  return out;
+}
+
+void AidingInput::on_message(const beacon::Sample& m) {
+  count("frame");
+  beacon_frames_.push_back(m);
+  last_ = m;
 }
 
 std::vector<AidingInput::EbimuLine> AidingInput::take_ebimu_lines() {

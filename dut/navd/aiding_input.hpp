@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "nav/common/result.hpp"
+#include "nav/protocols/beacon_ins.hpp"
 #include "nav/protocols/ebimu.hpp"
 #include "nav/protocols/evologics_usbl.hpp"
 #include "nav/protocols/keller_bus.hpp"
@@ -38,12 +39,13 @@ enum class InputProtocol {
   kUsbl,   ///< EvoLogics USBLLONG / USBLANGLES ("usbl")
   kNmea,    ///< NMEA 0183 sentences ("nmea")
   kKeller,  ///< Keller RS-485 bus answers, polled by navd ("keller")
+  kBeaconIns,  ///< paper P4's beacon INS binary frames ("beacon-ins")
 };
 
 /// The protocol's name on the command line, e.g. "pd0".
 std::string_view protocol_name(InputProtocol p);
 
-/// "nq1, pd0, pd6, a50, ebimu, usbl, nmea, keller" (for --help and errors).
+/// "nq1, pd0, pd6, a50, ebimu, usbl, nmea, keller, beacon-ins" (for --help and errors).
 std::string protocol_names();
 
 /// Baud used when the spec gives none: 9600 for NMEA and Keller, 115200 otherwise [bit/s].
@@ -95,7 +97,7 @@ class AidingInput {
                                protocols::rdi_pd0::Ensemble, protocols::rdi_pd6::Line,
                                protocols::waterlinked_a50::Packet, protocols::ebimu::Line,
                                protocols::evologics::Notification, protocols::nmea::Sentence,
-                               protocols::keller::Response>;
+                               protocols::keller::Response, protocols::beacon_ins::Sample>;
 
   /// max_buffer: bound on undecoded bytes for every protocol but PD0, whose ensembles can
   /// be 64 KiB long and get kPd0BufferBytes [bytes].
@@ -151,6 +153,11 @@ class AidingInput {
   /// always empty for other protocols.
   std::vector<EbimuLine> take_ebimu_lines();
 
+  /// The beacon INS frames decoded since the last call, in stream order (cleared by the
+  /// call); always empty for other protocols. Under a P4 navigator the first beacon-ins
+  /// input is the trigger.
+  std::vector<protocols::beacon_ins::Sample> take_beacon_frames();
+
   /// Whether the protocol is a DVL's (nq1, pd0, pd6, a50).
   bool is_dvl() const;
 
@@ -170,6 +177,7 @@ class AidingInput {
   void on_message(const protocols::evologics::Notification& m);
   void on_message(const protocols::nmea::Sentence& m);
   void on_message(const protocols::keller::Response& m);
+  void on_message(const protocols::beacon_ins::Sample& m);
   void count(const std::string& type) { ++by_type_[type]; }
   void set_velocity(const std::array<double, 3>& v) {
     velocity_ = v;
@@ -183,7 +191,8 @@ class AidingInput {
                                StreamDecoder<protocols::ebimu::Line>,
                                StreamDecoder<protocols::evologics::Notification>,
                                StreamDecoder<protocols::nmea::Sentence>,
-                               StreamDecoder<protocols::keller::Response>>;
+                               StreamDecoder<protocols::keller::Response>,
+                               StreamDecoder<protocols::beacon_ins::Sample>>;
   static Decoder make_decoder(InputProtocol protocol, std::size_t max_buffer);
 
   std::string name_;
@@ -200,6 +209,7 @@ class AidingInput {
   std::uint64_t unpaired_relative_ = 0;  ///< NVBRELATT not after its ping's USBLLONG
   std::uint64_t line_feeds_ = 0;          ///< EBIMU: LF bytes received so far
   std::vector<EbimuLine> ebimu_lines_;    ///< not yet taken
+  std::vector<protocols::beacon_ins::Sample> beacon_frames_;  ///< not yet taken
 };
 
 }  // namespace nav::dut

@@ -11,6 +11,7 @@
 #include "config_p1.hpp"
 #include "config_p2.hpp"
 #include "config_p3.hpp"
+#include "config_p4.hpp"
 #include "nav/common/escape.hpp"
 #include "nav/estimator/p1_driver.hpp"
 
@@ -51,6 +52,8 @@ std::string known_keys() {
   for (const auto& f : p1_fields()) s += std::string(", ") + f.name;
   for (const auto& f : p2_fields()) s += std::string(", ") + f.name;
   for (const auto& f : p3_fields()) s += std::string(", ") + f.name;
+  for (const auto& f : p4_fields()) s += std::string(", ") + f.name;
+  for (const auto& f : p4_choice_fields()) s += std::string(", ") + f.name;
   return s;
 }
 
@@ -94,13 +97,20 @@ Result<void> set_choice(NavdConfig& config, const std::string& key, const YAML::
     } else if (v == p3_method_name(P3Method::kEkfKr)) {
       config.navigator = NavigatorKind::kP3;
       config.p3.method = P3Method::kEkfKr;
+    } else if (v == p4_method_name(P4Method::kUkf)) {
+      config.navigator = NavigatorKind::kP4;
+      config.p4.method = P4Method::kUkf;
+    } else if (v == p4_method_name(P4Method::kDwtUkf)) {
+      config.navigator = NavigatorKind::kP4;
+      config.p4.method = P4Method::kDwtUkf;
     } else if (estimator::make_p1_navigator(v, estimator::P1Params{})) {
       config.navigator = NavigatorKind::kP1;
       config.p1_navigator = v;
     } else {
       return fail(ErrorCode::kInvalidArgument, "unknown navigator '" + v +
                                                    "' (expected gps-ins, dvl, p2, p3-dr, p3-ekf, "
-                                                   "p3-ekf-kr or a paper P1 navigator: " +
+                                                   "p3-ekf-kr, p4-ukf, p4-dwt-ukf or a paper P1 "
+                                                   "navigator: " +
                                                    estimator::p1_navigator_names() + ")");
     }
     return {};
@@ -147,6 +157,7 @@ std::string navigator_name(const NavdConfig& config) {
     case NavigatorKind::kP1: return config.p1_navigator;
     case NavigatorKind::kP2: return "p2";
     case NavigatorKind::kP3: return p3_method_name(config.p3.method);
+    case NavigatorKind::kP4: return p4_method_name(config.p4.method);
   }
   return "?";
 }
@@ -204,6 +215,22 @@ Result<NavdConfig> load_config(const std::string& path) {
     if (const P3Field* p3 = find_p3_field(name)) {
       if (auto ok = set_paper_field(*p3, config.p3, path, name, value); !ok) {
         return tl::unexpected(ok.error());
+      }
+      continue;
+    }
+    if (const P4Field* p4 = find_p4_field(name)) {
+      if (auto ok = set_paper_field(*p4, config.p4, path, name, value); !ok) {
+        return tl::unexpected(ok.error());
+      }
+      continue;
+    }
+    if (const P4ChoiceField* p4 = find_p4_choice_field(name)) {
+      Result<void> ok = fail(ErrorCode::kParse, "expects a name (" + std::string(p4->doc) + ")");
+      if (value.IsScalar()) ok = p4->set(config.p4, escape_controls(value.Scalar()));
+      if (ok) ok = validate(config.p4);
+      if (!ok) {
+        return fail(ok.error().code, where(path, value.Mark()) + ": " + name + ": " +
+                                         ok.error().detail);
       }
       continue;
     }
@@ -268,6 +295,14 @@ std::string config_keys_help() {
   for (const auto& f : p3_fields()) {
     s += std::string("  ") + f.name + " (default " + format_g(f.get(p3_defaults)) + "): " +
          f.doc + "\n";
+  }
+  const P4Config p4_defaults;
+  for (const auto& f : p4_fields()) {
+    s += std::string("  ") + f.name + " (default " + format_g(f.get(p4_defaults)) + "): " +
+         f.doc + "\n";
+  }
+  for (const auto& f : p4_choice_fields()) {
+    s += std::string("  ") + f.name + " (default " + f.get(p4_defaults) + "): " + f.doc + "\n";
   }
   const estimator::P1Params p1_defaults;
   for (const auto& f : p1_fields()) {

@@ -2,7 +2,7 @@
 // navd's optional YAML config file: a flat map of FilterParams fields and of navd's own
 // parameters (NavdParams) by name, plus two choices by name, e.g.
 //
-//   navigator: dvl            # gps-ins (default), dvl, a P1 navigator, p2 or a P3 navigator
+//   navigator: dvl            # gps-ins (default), dvl, a P1 navigator, p2, a P3 or a P4 navigator
 //   attitude_filter: ekf      # mahony (default), raw, ekf, ukf, cf or eskf
 //   attitude_kp_per_s: 0.8
 //   gps_horizontal_std_m: 1.5
@@ -19,6 +19,7 @@
 #include "nav/estimator/p1_types.hpp"
 #include "config_p2.hpp"
 #include "config_p3.hpp"
+#include "config_p4.hpp"
 
 namespace nav::dut {
 
@@ -36,6 +37,7 @@ enum class NavigatorKind {
   kP1,      ///< "ins", "ekf15", "upf15", "mfins": a paper P1 navigator (p1_driver.hpp), NavdConfig::p1_navigator
   kP2,      ///< "p2": paper P2's cooperative localisation (p2_navigator.hpp), the p2_* keys
   kP3,      ///< "p3-dr", "p3-ekf", "p3-ekf-kr": paper P3's crawler (p3_navigator.hpp), P3Config::method
+  kP4,      ///< "p4-ukf", "p4-dwt-ukf": paper P4's sea-surface beacon (p4_navigator.hpp), P4Config::method
 };
 
 /// Everything a config file sets.
@@ -49,9 +51,10 @@ struct NavdConfig {
   estimator::P1Params p1;     ///< the p1_* keys (config_p1.hpp); seed from --seed
   P2Config p2;                ///< the p2_* keys (config_p2.hpp)
   P3Config p3;                ///< the p3_* keys and, with kP3, the method (config_p3.hpp)
+  P4Config p4;                ///< the p4_* keys and, with kP4, the method (config_p4.hpp)
 };
 
-/// The navigator's name: "gps-ins", "dvl", "p2", a P3 navigator's or the P1 navigator's.
+/// The navigator's name: "gps-ins", "dvl", "p2", a P3 or P4 navigator's or the P1 navigator's.
 std::string navigator_name(const NavdConfig& config);
 
 /// Checks NavdParams ranges; the error names the field and the value.

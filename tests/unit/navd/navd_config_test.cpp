@@ -57,8 +57,8 @@ TEST(NavdConfig, UnknownChoicesAreLocatedAndListTheValidNames) {
   const auto n = load_config(write_config("navigator: usbl\n"));
   ASSERT_FALSE(n.has_value());
   EXPECT_NE(n.error().detail.find(":1:12: unknown navigator 'usbl' (expected gps-ins, dvl, p2, "
-                                  "p3-dr, p3-ekf, p3-ekf-kr or a paper P1 navigator: ins, "
-                                  "ekf15, upf15, mfins"),
+                                  "p3-dr, p3-ekf, p3-ekf-kr, p4-ukf, p4-dwt-ukf or a paper "
+                                  "P1 navigator: ins, ekf15, upf15, mfins"),
             std::string::npos)
       << n.error().detail;
   const auto m = load_config(write_config("attitude_filter: [ekf]\n"));
