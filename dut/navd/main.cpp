@@ -84,7 +84,8 @@ std::string footer() {
          "role in the summary (1-32 of a-z 0-9 _ -, unique, not ahrs/gps/output); PROTOCOL is "
          "nq1 (NavQuest NQ1 lines), pd0 (RDI PD0 ensembles), pd6 (RDI PD6 lines), a50 (Water "
          "Linked A50 packets), ebimu (EBIMU lines), usbl (EvoLogics USBLLONG/USBLANGLES), "
-         "nmea (NMEA 0183) or keller (Keller RS-485 pressure transmitter); BAUD defaults to "
+         "nmea (NMEA 0183), keller (Keller RS-485 pressure transmitter) or beacon-ins (paper "
+         "P4's beacon INS binary frames); BAUD defaults to "
          "9600 for nmea and keller and 115200 otherwise. Example: "
          "--input dvl=pd0:/dev/pts/5@115200. Every input has its own decoder; its messages are "
          "counted by type, malformed bytes are dropped and counted by reason (checksum, "
@@ -93,7 +94,10 @@ std::string footer() {
          "(instrument frame = body frame; the last one decoded before each AHRS packet); "
          "under a P3 navigator (p3-dr, p3-ekf, p3-ekf-kr) the first ebimu input is the "
          "trigger (no --ahrs): each line of p3_ebimu_values values is answered, named by its "
-         "ordinal, and the wheel encoders come from --can with --dbc. "
+         "ordinal, and the wheel encoders come from --can with --dbc; under a P4 navigator "
+         "(p4-ukf, p4-dwt-ukf) the first beacon-ins input is the trigger (no --ahrs, --gps "
+         "required): each frame is answered, named by its timer field, and the GPS RMC "
+         "position (and with p4_rmc_velocity its speed/course) is fused. "
          "All inputs are read in the same loop, the AHRS first, and every aiding message is "
          "handled before the AHRS packets of the same wake-up.\n\n"
          "Keller depth sensor: navd is the bus master. It sends F48 (init) to address 250 "
@@ -145,7 +149,8 @@ int run(int argc, char** argv) {
   app.add_option("--ahrs", opt.ahrs_path,
                  "tty of the 3DM-GX3-25 AHRS streaming 0xCB packets; every packet is a "
                  "trigger answered by one solution (required, but by the P3 navigators, whose "
-                 "trigger is the first --input of protocol ebimu)");
+                 "trigger is the first --input of protocol ebimu, and the P4 navigators, whose is the "
+                 "first of protocol beacon-ins)");
   app.add_option("--ahrs-baud", opt.ahrs_baud, "AHRS line rate [bit/s]")
       ->capture_default_str()
       ->check(CLI::IsMember(bauds));
@@ -287,7 +292,26 @@ int run(int argc, char** argv) {
                  nav::dut::navigator_name(config).c_str(), opt.dbc_path.c_str());
     return kExitUsage;
   }
-  if (!p3 && opt.ahrs_path.empty()) {
+  const bool p4 = config.navigator == nav::dut::NavigatorKind::kP4;
+  const bool has_beacon =
+      std::any_of(opt.inputs.begin(), opt.inputs.end(), [](const nav::dut::InputSpec& i) {
+        return i.protocol == nav::dut::InputProtocol::kBeaconIns;
+      });
+  if (p4 && (!opt.ahrs_path.empty() || !has_beacon)) {
+    std::fprintf(stderr,
+                 "navd: navigator %s: needs an --input NAME=beacon-ins:PATH (the trigger) and "
+                 "no --ahrs (see navd --help)\n",
+                 nav::dut::navigator_name(config).c_str());
+    return kExitUsage;
+  }
+  if (p4 && opt.gps_path.empty()) {
+    std::fprintf(stderr,
+                 "navd: navigator %s: needs --gps PATH (the RMC fixes that start and correct "
+                 "it; see navd --help)\n",
+                 nav::dut::navigator_name(config).c_str());
+    return kExitUsage;
+  }
+  if (!p3 && !p4 && opt.ahrs_path.empty()) {
     std::fprintf(stderr, "navd: --ahrs is required (navigator %s; see navd --help)\n",
                  nav::dut::navigator_name(config).c_str());
     return kExitUsage;

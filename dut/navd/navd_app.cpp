@@ -126,6 +126,8 @@ NavdApp::NavdApp(boost::asio::io_context& io, boost::asio::signal_set& signals,
     p2_nav_.emplace(params, config.attitude, config.p2, options.vehicle_id);
   } else if (config.navigator == NavigatorKind::kP3) {
     p3_nav_.emplace(params, config.p3);
+  } else if (config.navigator == NavigatorKind::kP4) {
+    p4_nav_.emplace(params, config.p4);
   } else {
     gps_nav_.emplace(params, config.attitude);
   }
@@ -148,6 +150,9 @@ NavdApp::NavdApp(boost::asio::io_context& io, boost::asio::signal_set& signals,
     if (e.spec.protocol == InputProtocol::kKeller) x.poller.emplace(params.depth_poll_period_s);
     if (p3_nav_ && !p3_trigger_ && e.spec.protocol == InputProtocol::kEbimu) {
       p3_trigger_ = extras_.size();
+    }
+    if (p4_nav_ && !p4_trigger_ && e.spec.protocol == InputProtocol::kBeaconIns) {
+      p4_trigger_ = extras_.size();
     }
     extras_.push_back(std::move(x));
   }
@@ -208,13 +213,14 @@ void NavdApp::handle_p2() {
 
 estimator::NavSolution NavdApp::nav_solution() const {
   if (p3_nav_) return p3_nav_->solution();
+  if (p4_nav_) return p4_nav_->solution();
   if (p1_nav_) return p1_nav_->solution();
   if (p2_nav_) return p2_nav_->solution();
   return gps_nav_ ? gps_nav_->solution() : dvl_nav_->solution();
 }
 
 estimator::AttitudeStatus NavdApp::attitude_status() const {
-  if (p1_nav_ || p3_nav_) return estimator::AttitudeStatus::kOk;  // they count their faults
+  if (p1_nav_ || p3_nav_ || p4_nav_) return estimator::AttitudeStatus::kOk;  // they count theirs
   if (p2_nav_) return p2_nav_->navigation().last_attitude_status();
   return gps_nav_ ? gps_nav_->last_attitude_status() : dvl_nav_->last_attitude_status();
 }
@@ -418,6 +424,14 @@ void NavdApp::handle_wake() {
   if (p3_trigger_) {
     for (const auto& line : extras_[*p3_trigger_].input.take_ebimu_lines()) {
       if (!handle_ebimu(line)) return;
+    }
+  }
+  for (std::size_t i = 0; i < extras_.size(); ++i) {
+    // Only the trigger's frames are answered; other beacon inputs' are dropped (counted).
+    auto frames = extras_[i].input.take_beacon_frames();
+    if (!p4_trigger_ || i != *p4_trigger_) continue;
+    for (const auto& frame : frames) {
+      if (!handle_beacon(frame)) return;
     }
   }
 

@@ -41,6 +41,12 @@
 // (lines stepped / p3_ebimu_rate_hz), steps the navigator and writes one $PNVBSOL whose
 // trigger_tag is the line's ordinal (the LF bytes before it on that port).
 //
+// The P4 navigators (p4-ukf, p4-dwt-ukf, navd_p4.cpp) run without an AHRS port too: their
+// trigger is the first --input of protocol beacon-ins. In step 2 every RMC of the GPS port
+// (position, and speed/course when present) goes to the navigator; in step 3 each beacon
+// frame, in arrival order, steps it and writes one $PNVBSOL whose trigger_tag is the frame's
+// timer field (as received, decimal).
+//
 // The handlers decide nothing: they run in whatever order the io_context hands them out,
 // and only mark; the fixed order of step 1 is the loop's. A signal stops navd before any
 // port of its wake-up is read, or during a --delay-ms sleep.
@@ -87,6 +93,7 @@
 #include "output_queue.hpp"
 #include "p2_navigator.hpp"
 #include "p3_navigator.hpp"
+#include "p4_navigator.hpp"
 #include "state_link.hpp"
 #include "stream_decoder.hpp"
 
@@ -100,7 +107,7 @@ protocols::navd::Solution to_solution(const estimator::NavSolution& nav, std::ui
 
 /// Command-line settings of navd.
 struct NavdOptions {
-  std::string ahrs_path;            ///< 3DM-GX3-25 tty; empty = none (P3 navigators only)
+  std::string ahrs_path;            ///< 3DM-GX3-25 tty; empty = none (P3, P4 navigators only)
   int ahrs_baud = 115200;           ///< [bit/s]
   std::string gps_path;             ///< NMEA 0183 GPS tty; empty = no GPS
   int gps_baud = 9600;              ///< [bit/s]
@@ -188,6 +195,9 @@ class NavdApp {
   bool handle_ebimu(const AidingInput::EbimuLine& line);
   /// P3: the wheel samples decoded this wake into the navigator (others: dropped).
   void handle_wheels();
+  /// P4: one beacon INS frame of the trigger input: the step, one solution named by its
+  /// timer. False when a signal or output hang-up says to stop.
+  bool handle_beacon(const protocols::beacon_ins::Sample& frame);
   /// Writes the innovations and covariance `stated` and then `solution` after --delay-ms;
   /// false when a signal or output hang-up says to stop.
   bool answer(std::string stated, const protocols::navd::Solution& solution);
@@ -263,6 +273,8 @@ class NavdApp {
   std::optional<P3Navigator> p3_nav_;  ///< navigator: p3-dr, p3-ekf, p3-ekf-kr (paper P3)
   std::optional<std::size_t> p3_trigger_;  ///< P3: the index in extras_ of the EBIMU trigger
   std::uint64_t p3_wrong_length_ = 0;  ///< P3: EBIMU lines not of p3_ebimu_values values
+  std::optional<P4Navigator> p4_nav_;  ///< navigator: p4-ukf, p4-dwt-ukf (paper P4)
+  std::optional<std::size_t> p4_trigger_;  ///< P4: the index in extras_ of the beacon trigger
   /// The estimate of whichever navigator runs.
   estimator::NavSolution nav_solution() const;
   /// Status of the last attitude step of whichever navigator runs.

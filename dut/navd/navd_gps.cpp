@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // navd's GPS port: each decoded NMEA sentence counted, and the fixes handed to the navigator
 // that uses them (gps-ins: position and velocity; P1: position; p2: the start of the dead
-// reckoning).
+// reckoning; P4: the RMC's position and speed/course).
 #include "navd_app.hpp"
 
 #include "nav/common/units.hpp"
@@ -41,6 +41,16 @@ void NavdApp::handle_gps(const protocols::nmea::Sentence& s) {
     ++gps_counts_.rmc;
     if (!rmc->valid) {
       ++gps_counts_.no_fix;
+      return;
+    }
+    if (p4_nav_) {
+      // Paper P4's GPS is RMC (GPRMC): its position on the datum's plane, and its speed and
+      // course when the receiver gave them (the navigator fuses them with p4_rmc_velocity).
+      if (!rmc->lat_deg || !rmc->lon_deg) {
+        ++gps_counts_.incomplete;
+        return;
+      }
+      p4_nav_->on_gps(p4_nav_->rmc_fix(*rmc));
       return;
     }
     if (!rmc->sog_kn || !rmc->cog_deg) {

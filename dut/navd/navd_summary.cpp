@@ -82,6 +82,24 @@ std::string NavdApp::stats_line(const std::string& reason) const {
          " ebimu_wrong_length=" + std::to_string(p3_wrong_length_);
     return s;
   }
+  if (p4_nav_) {
+    const P4NavigatorCounts& c = p4_nav_->counts();
+    s += "; " + std::string(p4_method_name(p4_nav_->config().method)) +
+         " frames=" + std::to_string(c.frames) +
+         " frames_invalid=" + std::to_string(c.frames_invalid) +
+         " dt_resets=" + std::to_string(c.dt_resets) + " fixes=" + std::to_string(c.fixes) +
+         " gps_fused=" + std::to_string(c.gps_fused) +
+         " gps_rejected=" + std::to_string(c.gps_rejected) +
+         " compass_fused=" + std::to_string(c.compass_fused) +
+         " compass_rejected=" + std::to_string(c.compass_rejected) +
+         " velocity_fused=" + std::to_string(c.velocity_fused) +
+         " velocity_rejected=" + std::to_string(c.velocity_rejected) +
+         " predict_faults=" + std::to_string(c.predict_faults) +
+         " denoised=" + std::to_string(c.denoised) +
+         " startup_raw=" + std::to_string(c.startup_raw) +
+         " latency_samples=" + std::to_string(p4_nav_->latency_samples());
+    return s;
+  }
   if (gps_nav_) {
     const auto& nav = gps_nav_->stats();
     s += "; filter ahrs_invalid=" + std::to_string(nav.ahrs_rejected_invalid) +
