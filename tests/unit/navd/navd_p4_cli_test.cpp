@@ -19,9 +19,12 @@ struct Outcome {
 };
 
 Outcome run_navd(const std::string& args, const std::string& config_text) {
+  // Named by the test: ctest runs each test of this binary as its own process, in parallel.
   const std::string dir = ::testing::TempDir();
-  const std::string config = dir + "/navd_p4_cli.yaml";
-  const std::string err = dir + "/navd_p4_cli.err";
+  const std::string name =
+      std::string("navd_p4_cli_") + ::testing::UnitTest::GetInstance()->current_test_info()->name();
+  const std::string config = dir + "/" + name + ".yaml";
+  const std::string err = dir + "/" + name + ".err";
   std::ofstream(config) << config_text;
   const std::string cmd = std::string(NAV_BINARY_DIR) + "/navd --output /nonexistent/out --config " +
                           config + " " + args + " 2>" + err;
@@ -59,11 +62,12 @@ TEST(NavdP4Cli, RefusesAP4NavigatorWithoutABeaconInputOrWithoutGps) {
   EXPECT_EQ(ok.code, 3) << ok.err;
 }
 
-TEST(NavdP4Cli, ABadP4KeyIsRefusedWithItsLocation) {
+TEST(NavdP4Cli, LocationOfABadKey) {
   const Outcome o = run_navd("--gps g --input b=beacon-ins:b",
                              "navigator: p4-dwt-ukf\np4_dwt_window: 63\n");
   EXPECT_EQ(o.code, 2) << o.err;
-  EXPECT_NE(o.err.find("navd_p4_cli.yaml:2:16: p4_dwt_window: p4_dwt_window must be an even"),
+  EXPECT_NE(o.err.find("LocationOfABadKey.yaml:2:16: p4_dwt_window: p4_dwt_window must be an "
+                       "even"),
             std::string::npos)
       << o.err;
 }
