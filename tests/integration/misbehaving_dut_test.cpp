@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // DUTs that misbehave in ways navd does not (tests/support/lying_dut): solutions naming a
-// trigger never sent, a crash at a given scenario time in lockstep, ports opened late, a DUT
-// (and its child) that ignores SIGTERM and SIGHUP.
+// trigger never sent, a crash at a given scenario time in lockstep, ports opened late, a line
+// it never reads, a DUT (and its child) that ignores SIGTERM and SIGHUP.
 #include <signal.h>
 #include <sys/wait.h>
 
@@ -63,6 +63,23 @@ TEST(NavbenchRun, PortsTheDutHadNotOpenedAtTimeZeroAreNamedInAWarning) {
       {"run", source_path("tests/integration/scenarios/open_in_time.yaml"), "--out", "fine"}, dir);
   EXPECT_EQ(fine.exit_code, 0) << fine.out << fine.err;
   EXPECT_EQ(fine.err.find("warning"), std::string::npos) << fine.err;
+}
+
+// A device the DUT never reads filled its line once; a lockstep run used to wait a watchdog
+// period for every later message of it (hours for a minute of scenario). Now it waits one
+// period, warns, and drops that line's bytes while the DUT does not read it.
+TEST(NavbenchRun, LockstepDoesNotWaitForALineTheDutNeverReads) {
+  const auto dir = fresh_dir("unread-line");
+  const auto r = run_navbench(
+      {"run", source_path("tests/integration/scenarios/unread_line.yaml"), "--out", "run"}, dir);
+  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+  const std::regex warning(
+      "navbench: warning: device 'spare': the DUT read nothing of its line for 1\\.0 s "
+      "\\(dut.watchdog\\) at t=[0-9.]+ s; its bytes are dropped while the DUT does not read "
+      "it\n");
+  EXPECT_TRUE(std::regex_search(r.err, warning)) << r.err;
+  EXPECT_EQ(r.err.find("device 'ahrs'"), std::string::npos) << r.err;  // read: no warning
+  EXPECT_LT(r.wall_s, 120.0);  // one watchdog wait, not one per message (3000 s)
 }
 
 /// Whether process `pid` is gone (or a zombie: it ended, and nobody reaped it yet).

@@ -31,6 +31,7 @@ RunWires::RunWires(Parts parts)
   tag_serial_triggers();
   tag_can_triggers();
   suppressed_.assign(devices.size(), 0);
+  unread_.assign(devices.size(), 0);
 }
 
 void RunWires::tag_serial_triggers() {
@@ -196,15 +197,30 @@ std::size_t RunWires::write(std::uint32_t k, std::uint32_t offset, std::uint32_t
     return n > 0 ? static_cast<std::size_t>(n) : 0;
   }
   std::size_t off = 0;
-  const Timestamp give_up = monotonic_now() + p_.watch->vehicle_of(m.device).dut->watchdog;
+  const Duration watchdog = p_.watch->vehicle_of(m.device).dut->watchdog;
+  const Timestamp give_up = monotonic_now() + watchdog;
   while (off < length) {
     const ssize_t n = ::write(fd, data + off, length - off);
     if (n > 0) {
       off += static_cast<std::size_t>(n);
+      unread_[m.device] = 0;  // the DUT makes room again: wait for it as before
       continue;
     }
+    // A line the DUT left unread for a whole watchdog period is not waited for again until
+    // it makes room (a DUT that does not use the device): its bytes are lost, as a UART's.
+    if (unread_[m.device] != 0) break;
     // The DUT has not read its input yet: wait for room, as long as the watchdog allows.
-    if (!p_.watch->ok() || monotonic_now() > give_up) break;
+    if (!p_.watch->ok()) break;
+    if (monotonic_now() > give_up) {
+      unread_[m.device] = 1;
+      std::fprintf(stderr,
+                   "navbench: warning: device '%s': the DUT read nothing of its line for %.1f s "
+                   "(dut.watchdog) at t=%.3f s; its bytes are dropped while the DUT does not "
+                   "read it\n",
+                   (*p_.devices)[m.device].spec.name.c_str(), to_seconds(watchdog),
+                   to_seconds(m.start));
+      break;
+    }
     pollfd p{fd, POLLOUT, 0};
     ::poll(&p, 1, 10);
   }

@@ -113,6 +113,8 @@ class RunWires final : public PlayHost {
   std::unordered_map<std::size_t, std::pair<std::uint32_t, std::size_t>> trigger_of_frame_;
   bool failed_ = false;  ///< a CAN trigger's barrier failed: the play stops
   std::vector<std::size_t> suppressed_;
+  /// Lockstep, per device: its line was left unread for a watchdog period (write()).
+  std::vector<char> unread_;
   Timestamp t0_{};
   Duration next_progress_;
 };
