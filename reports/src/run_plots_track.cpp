@@ -351,9 +351,11 @@ void add_track_plots(const RunFolder& f, RunPlots& out) {
         if (std::string(q.kind) == "horizontal_error") horizontal_id = "plot-horizontal_error";
       }
     }
-    // A horizontal error at a given time is read on the horizontal error's plot.
+    // A horizontal error at a given time, or its rms, is read on the horizontal error's plot.
     for (const auto& c : checks) {
-      if (check_kind(c) == "horizontal_error_at" && !of_peer(f.summary, c)) {
+      const std::string kind = check_kind(c);
+      if ((kind == "horizontal_error_at" || kind == "horizontal_error_rms") &&
+          !of_peer(f.summary, c)) {
         out.check_anchor[get_string(c, "name", "")] = horizontal_id;
       }
     }

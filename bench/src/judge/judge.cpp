@@ -112,6 +112,38 @@ reports::CheckResult point_check(const CheckSpec& c, const std::vector<reports::
   return r;
 }
 
+/// horizontal_error_rms: the root mean square of the horizontal error over the solutions
+/// from `after` on, each solution one sample.
+reports::CheckResult rms_check(const CheckSpec& c, const std::vector<reports::AlignedSample>& a,
+                               std::optional<double> stopped_at_s) {
+  reports::CheckResult r = check_result(c, c.max, "m");
+  const double after_s = to_seconds(c.after);
+  double sum_sq = 0.0, worst = -1.0, worst_t = 0.0;
+  std::size_t n = 0;
+  for (const auto& s : a) {
+    if (s.t_s < after_s) continue;
+    const double e = horizontal(s);
+    sum_sq += e * e;
+    ++n;
+    if (e > worst) {
+      worst = e;
+      worst_t = s.t_s;
+    }
+  }
+  if (n == 0) {
+    if (!stopped_before_after(r, stopped_at_s)) {
+      r.detail = "no solutions with a valid position to judge";
+    }
+    return r;
+  }
+  r.value = std::sqrt(sum_sq / static_cast<double>(n));
+  r.passed = r.value <= c.max;
+  r.worst_t_s = worst_t;
+  r.detail = fmt("rms %.3f m over %.0f solutions", r.value, static_cast<double>(n)) +
+             fmt(" (limit %.3f m; largest %.3f m", c.max, worst) + fmt(" at t=%.2f s)", worst_t, 0.0);
+  return r;
+}
+
 double vertical(const reports::AlignedSample& s) { return std::abs(s.est_p_n.z() - s.truth_p_n.z()); }
 double attitude(const reports::AlignedSample& s) {
   return attitude_error_angle(s.truth_q_nb, s.est_q_nb);
@@ -273,6 +305,9 @@ JudgeOutput judge(const JudgeInput& in) {
         break;
       case CheckKind::kHorizontalErrorAt:
         out.checks.push_back(point_check(c, out.aligned, in.stopped_at_s));
+        break;
+      case CheckKind::kHorizontalErrorRms:
+        out.checks.push_back(rms_check(c, out.aligned, in.stopped_at_s));
         break;
       case CheckKind::kVerticalError:
         out.checks.push_back(envelope_check(c, out.aligned, 1.0, "m", &vertical, in.stopped_at_s));

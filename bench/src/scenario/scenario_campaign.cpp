@@ -78,6 +78,7 @@ CampaignCheckSpec read_campaign_check(const Field& item, const Scenario& s) {
       case CheckSpec::Kind::kVerticalError:
       case CheckSpec::Kind::kEndpointError:
       case CheckSpec::Kind::kHorizontalErrorAt:
+      case CheckSpec::Kind::kHorizontalErrorRms:
         c.limit = max.quantity(Dimension::kLength, Bound::kPositive);
         c.unit = "m";
         break;
@@ -87,7 +88,8 @@ CampaignCheckSpec read_campaign_check(const Field& item, const Scenario& s) {
         break;
       default:
         of.fail("a quantile is of a check that measures an error (horizontal_error, "
-                "vertical_error, attitude_error, endpoint_error, horizontal_error_at); " + quoted(run.name) +
+                "vertical_error, attitude_error, endpoint_error, horizontal_error_at, "
+                "horizontal_error_rms); " + quoted(run.name) +
                 " is a " + check_kind_name(run.kind) + " check");
     }
     c.name = c.of + "_" + percentile_tag(c.quantile);

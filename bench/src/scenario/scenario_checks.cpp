@@ -30,7 +30,8 @@ const std::vector<std::pair<std::string, CheckSpec::Kind>>& check_kinds() {
       {"dut_alive", Kind::kDutAlive},
       {"restart_recovery", Kind::kRestartRecovery},
       {"consistency", Kind::kConsistency},
-      {"horizontal_error_at", Kind::kHorizontalErrorAt}};
+      {"horizontal_error_at", Kind::kHorizontalErrorAt},
+      {"horizontal_error_rms", Kind::kHorizontalErrorRms}};
   return kinds;
 }
 
@@ -69,6 +70,7 @@ CheckSpec read_check(const Field& item, const Scenario& s) {
     case Kind::kRestartRecovery: keys.insert(keys.end(), {"max"}); break;
     case Kind::kConsistency: keys.insert(keys.end(), {"of", "source", "after"}); break;
     case Kind::kHorizontalErrorAt: keys.insert(keys.end(), {"max", "at"}); break;
+    case Kind::kHorizontalErrorRms: keys.insert(keys.end(), {"max", "after"}); break;
   }
   const MapReader m(item, keys);
   const DutSpec* dut = &s.dut;
@@ -100,6 +102,7 @@ CheckSpec read_check(const Field& item, const Scenario& s) {
     case Kind::kHorizontalError:
     case Kind::kVerticalError:
     case Kind::kEndpointError:
+    case Kind::kHorizontalErrorRms:
       c.max = m.required("max").quantity(Dimension::kLength, Bound::kPositive);
       break;
     case Kind::kHorizontalErrorAt: {

@@ -169,5 +169,32 @@ TEST(PointChecks, HorizontalErrorAtReadsItsTimeAndRefusesOneOutsideTheRun) {
   }
 }
 
+TEST(PointChecks, HorizontalErrorRmsReadsItsLimitAndAfterAndMayHaveAQuantile) {
+  const auto ok = load_scenario(write_temp(
+      "rms-ok.yaml",
+      two_vehicles("  - {kind: horizontal_error_rms, max: 2 m, after: 3 s}\n",
+                   "campaign:\n  checks:\n    - {kind: quantile, of: horizontal_error_rms, "
+                   "quantile: 90 %, max: 3 m}\n")));
+  ASSERT_TRUE(ok) << ok.error().detail;
+  ASSERT_EQ(ok->checks.size(), 1u);
+  EXPECT_EQ(ok->checks[0].kind, CheckSpec::Kind::kHorizontalErrorRms);
+  EXPECT_EQ(ok->checks[0].name, "horizontal_error_rms");
+  EXPECT_DOUBLE_EQ(ok->checks[0].max, 2.0);
+  EXPECT_EQ(ok->checks[0].after, std::chrono::seconds(3));
+  const struct {
+    const char* check;
+    const char* says;
+  } bad[] = {
+      {"  - {kind: horizontal_error_rms, after: 1 s}\n", "missing required key 'max'"},
+      {"  - {kind: horizontal_error_rms, max: 0 m}\n", "max"},
+      {"  - {kind: horizontal_error_rms, max: 1 m, at: 1 s}\n", "'at'"},
+  };
+  for (const auto& b : bad) {
+    const auto r = load_scenario(write_temp("rms-bad.yaml", two_vehicles(b.check)));
+    ASSERT_FALSE(r) << b.check;
+    EXPECT_NE(r.error().detail.find(b.says), std::string::npos) << r.error().detail;
+  }
+}
+
 }  // namespace
 }  // namespace nav::bench

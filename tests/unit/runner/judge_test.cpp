@@ -249,6 +249,45 @@ TEST_F(JudgeFixture, HorizontalErrorAtTakesTheSolutionInForceAtItsTime) {
   EXPECT_TRUE(stopped.checks[0].judged);
 }
 
+TEST_F(JudgeFixture, HorizontalErrorRmsIsOverTheSolutionsFromItsAfter) {
+  const auto rms = [](double max, std::chrono::milliseconds after, const char* name) {
+    CheckSpec c;
+    c.kind = CheckSpec::Kind::kHorizontalErrorRms;
+    c.max = max;
+    c.after = after;
+    c.name = name;
+    return c;
+  };
+  sc.checks = {rms(1.0, 0ms, "all"), rms(0.5, 1500ms, "late"), rms(0.1, 9000ms, "none")};
+  JudgeInput in;
+  in.scenario = &sc;
+  in.truth = table.get();
+  in.t0 = Timestamp{1'000'000'000};
+  // Errors 0.3/0.4 (0.5 m), 0.6/0.8 (1 m) and 0 m; the depth error is not counted.
+  const Vec3 errors[] = {Vec3(0.3, 0.4, 2.0), Vec3(0.6, 0.8, 0.0), Vec3(0.0, 0.0, 5.0)};
+  for (std::uint64_t k = 0; k < 3; ++k) {
+    const double t = 1.0 + static_cast<double>(k);
+    in.triggers.push_back({100 + k, from_seconds(t), true, in.t0 + from_seconds(t)});
+    in.answers.push_back(answer_at(100 + k, t, errors[k], in.triggers[k].wire_end + 2ms));
+  }
+  in.dut_status = "alive";
+  const JudgeOutput out = judge(in);
+  ASSERT_EQ(out.checks.size(), 3u);
+  EXPECT_EQ(out.checks[0].kind, "horizontal_error_rms");
+  EXPECT_NEAR(out.checks[0].value, std::sqrt((0.25 + 1.0 + 0.0) / 3.0), 1e-6);  // 0.645 m
+  EXPECT_TRUE(out.checks[0].passed);
+  EXPECT_EQ(out.checks[0].worst_t_s, 2.0);                                      // the 1 m one
+  EXPECT_NEAR(out.checks[1].value, std::sqrt((1.0 + 0.0) / 2.0), 1e-6);         // from 1.5 s
+  EXPECT_FALSE(out.checks[1].passed);
+  EXPECT_NE(out.checks[1].detail.find("rms 0.707 m over 2 solutions"), std::string::npos)
+      << out.checks[1].detail;
+  EXPECT_FALSE(out.checks[2].passed);  // nothing from 9 s on
+  EXPECT_NE(out.checks[2].detail.find("no solutions with a valid position"), std::string::npos);
+  // A run stopped before its `after` is not judged.
+  in.stopped_at_s = 1.2;
+  EXPECT_FALSE(judge(in).checks[1].judged);
+}
+
 TEST_F(JudgeFixture, ARestartIsMeasuredToItsFirstValidSolutionAndItsGapIsNoDeadlineMiss) {
   sc.checks = {{CheckSpec::Kind::kDeadline, 0.010, 0.0, 0s, "ahrs", 0, "deadline"},
                {CheckSpec::Kind::kRestartRecovery, 0.5, 0.0, 0s, "", 0, "recovery"},

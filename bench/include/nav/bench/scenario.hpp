@@ -107,7 +107,8 @@ struct DutSpec {
 /// One check of the DUT's output against truth.
 struct CheckSpec {
   enum class Kind { kHorizontalError, kVerticalError, kAttitudeError, kEndpointError,
-                    kDeadline, kDutAlive, kRestartRecovery, kConsistency, kHorizontalErrorAt };
+                    kDeadline, kDutAlive, kRestartRecovery, kConsistency, kHorizontalErrorAt,
+                    kHorizontalErrorRms };
   Kind kind = Kind::kHorizontalError;
   double max = 0.0;  ///< limit [m], [rad]; deadline: latency [s]; restart_recovery: time [s]
   double max_per_distance = 0.0;  ///< envelope grows with distance travelled [m/m] (errors)
