@@ -392,24 +392,37 @@ void NavdApp::wait_for_wake() {
 void NavdApp::handle_wake() {
   ahrs_msgs_.clear();
   gps_msgs_.clear();
-  // Trigger port first: aiding bytes that preceded a trigger seen now are readable below.
-  if (ahrs_watch_ && ahrs_watch_->take(Wait::wait_read)) {
+  // Every serial port is read at every wake, marked ready or not: a pty hands its input to
+  // the reader through the kernel's flip-buffer work, so bytes the bench wrote before a
+  // trigger may not be marked ready yet when the trigger wakes navd, while a read flushes
+  // that work first (n_tty_read). The trigger's port first: aiding bytes that preceded a
+  // trigger seen now are readable below (DUT contract §5).
+  if (ahrs_watch_) {
+    ahrs_watch_->take(Wait::wait_read);
     read_port(*ahrs_, ahrs_open_,
               [this](protocols::ByteSpan b) { ahrs_decoder_.feed(b, ahrs_msgs_); });
   }
-  if (gps_watch_ && gps_watch_->take(Wait::wait_read)) {
+  const std::optional<std::size_t> extra_trigger = p3_trigger_ ? p3_trigger_ : p4_trigger_;
+  const auto read_extra = [this](std::size_t i) {
+    auto& e = extras_[i];
+    e.watch->take(Wait::wait_read);
+    read_port(e.port, e.open, [&e](protocols::ByteSpan b) { e.input.feed(b); });
+  };
+  if (extra_trigger) read_extra(*extra_trigger);
+  if (gps_watch_) {
+    gps_watch_->take(Wait::wait_read);
     read_port(*gps_, gps_open_, [this](protocols::ByteSpan b) { gps_decoder_.feed(b, gps_msgs_); });
   }
-  // --input messages are handled (counted, kept) as they decode: before any AHRS packet.
-  for (auto& e : extras_) {
-    if (!e.watch->take(Wait::wait_read)) continue;
-    read_port(e.port, e.open, [&e](protocols::ByteSpan b) { e.input.feed(b); });
+  // --input messages are handled (counted, kept) as they decode: before any trigger.
+  for (std::size_t i = 0; i < extras_.size(); ++i) {
+    if (i != extra_trigger) read_extra(i);
   }
   // CAN frames are decoded and counted as they are read: before any trigger of this wake.
   if (can_watch_ && can_watch_->take(Wait::wait_read)) read_can();
   // $PNVBPOS are only counted, kept and logged: their order against AHRS is moot. State
   // reports (p2) wait for handle_p2(), after the iUSBL fixes of this wake.
-  if (modem_watch_ && modem_watch_->take(Wait::wait_read)) {
+  if (modem_watch_) {
+    modem_watch_->take(Wait::wait_read);
     read_port(*modem_, modem_open_, [this](protocols::ByteSpan b) { handle_modem_bytes(b); });
   }
 

@@ -8,11 +8,14 @@
 //   other vehicles ◀─$PNVBPOS──▶ [--modem]   ─┼─ io.run_one(); io.poll() ─▶ wake (every
 //                  (p2: state reports)        │
 //   N2K, wheel encoders ─frames─▶ [--can]    ─┤  handler ready then has run):
-//   SIGTERM/SIGINT ────────────▶ [signal_set]─┤ 1. read every port marked ready until EAGAIN,
-//   hang-up, room for output ──▶ [output]    ─┘    trigger port (AHRS) first, then GPS,
-//                                                  then the --input ports in command-line
-//                                                  order, then the CAN socket, then the
-//                                                  modem; feed each port's stream decoder
+//   SIGTERM/SIGINT ────────────▶ [signal_set]─┤ 1. read every serial port until EAGAIN,
+//   hang-up, room for output ──▶ [output]    ─┘    marked ready or not (a pty's bytes may
+//                                                  not be marked yet), the trigger port
+//                                                  (AHRS, or the P3/P4 trigger input) first,
+//                                                  then GPS, then the other --input ports
+//                                                  in command-line order, then the CAN
+//                                                  socket (when marked), then the modem;
+//                                                  feed each port's stream decoder
 //                                                  (--input messages, CAN frames and peer
 //                                                  reports are counted and the last one
 //                                                  kept as they are decoded)
