@@ -57,16 +57,6 @@ Result<void> check(const SeaSpec& spec) {
   return {};
 }
 
-/// ZYX Euler kinematics: the body rate of the rotation ZYX(roll, pitch, yaw) (truth.cpp).
-Vec3 euler_rate_to_body(double roll, double pitch, const Vec3& euler_dot) {
-  const double sr = std::sin(roll), cr = std::cos(roll);
-  const double sp = std::sin(pitch), cp = std::cos(pitch);
-  const double roll_dot = euler_dot.x(), pitch_dot = euler_dot.y(), yaw_dot = euler_dot.z();
-  return Vec3{roll_dot - yaw_dot * sp,                 //
-              pitch_dot * cr + yaw_dot * sr * cp,      //
-              -pitch_dot * sr + yaw_dot * cr * cp};
-}
-
 /// The rate of the ZYX yaw of an attitude with body rate omega_b (inverse Euler kinematics).
 double yaw_rate(const Euler& e, const Vec3& omega_b) {
   return (std::sin(e.roll) * omega_b.y() + std::cos(e.roll) * omega_b.z()) / std::cos(e.pitch);

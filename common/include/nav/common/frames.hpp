@@ -40,6 +40,17 @@ inline Quat quat_from_euler(const Euler& e) {
               Eigen::AngleAxisd(e.roll, Vec3::UnitX()));
 }
 
+/// ZYX Euler kinematics: the body rate of a rotation ZYX(roll, pitch, yaw) whose angles change
+/// at euler_dot = (roll', pitch', yaw') [rad/s].
+inline Vec3 euler_rate_to_body(double roll, double pitch, const Vec3& euler_dot) {
+  const double sr = std::sin(roll), cr = std::cos(roll);
+  const double sp = std::sin(pitch), cp = std::cos(pitch);
+  const double roll_dot = euler_dot.x(), pitch_dot = euler_dot.y(), yaw_dot = euler_dot.z();
+  return Vec3{roll_dot - yaw_dot * sp,                 //
+              pitch_dot * cr + yaw_dot * sr * cp,      //
+              -pitch_dot * sr + yaw_dot * cr * cp};
+}
+
 /// ZYX Euler angles of q_nb; yaw and roll wrapped to (-pi, pi], pitch in [-pi/2, pi/2].
 inline Euler euler_from_quat(const Quat& q_nb) {
   const Mat3 R = q_nb.normalized().toRotationMatrix();
