@@ -174,13 +174,17 @@ TEST(PointChecks, HorizontalErrorRmsReadsItsLimitAndAfterAndMayHaveAQuantile) {
       "rms-ok.yaml",
       two_vehicles("  - {kind: horizontal_error_rms, max: 2 m, after: 3 s}\n",
                    "campaign:\n  checks:\n    - {kind: quantile, of: horizontal_error_rms, "
-                   "quantile: 90 %, max: 3 m}\n")));
+                   "quantile: 90 %, max: 3 m, confidence: 90 %}\n")));
   ASSERT_TRUE(ok) << ok.error().detail;
   ASSERT_EQ(ok->checks.size(), 1u);
   EXPECT_EQ(ok->checks[0].kind, CheckSpec::Kind::kHorizontalErrorRms);
   EXPECT_EQ(ok->checks[0].name, "horizontal_error_rms");
   EXPECT_DOUBLE_EQ(ok->checks[0].max, 2.0);
   EXPECT_EQ(ok->checks[0].after, std::chrono::seconds(3));
+  ASSERT_EQ(ok->campaign_checks.size(), 1u);
+  EXPECT_EQ(ok->campaign_checks[0].of, "horizontal_error_rms");
+  EXPECT_EQ(ok->campaign_checks[0].unit, "m");
+  EXPECT_DOUBLE_EQ(ok->campaign_checks[0].limit, 3.0);
   const struct {
     const char* check;
     const char* says;

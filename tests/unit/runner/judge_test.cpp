@@ -283,9 +283,16 @@ TEST_F(JudgeFixture, HorizontalErrorRmsIsOverTheSolutionsFromItsAfter) {
       << out.checks[1].detail;
   EXPECT_FALSE(out.checks[2].passed);  // nothing from 9 s on
   EXPECT_NE(out.checks[2].detail.find("no solutions with a valid position"), std::string::npos);
-  // A run stopped before its `after` is not judged.
+  // A run stopped before its `after` (so with no solution after 1.2 s) is not judged.
   in.stopped_at_s = 1.2;
-  EXPECT_FALSE(judge(in).checks[1].judged);
+  in.triggers.resize(1);
+  in.answers.resize(1);
+  const JudgeOutput stopped = judge(in);
+  EXPECT_TRUE(stopped.checks[0].judged);
+  EXPECT_FALSE(stopped.checks[1].judged);
+  EXPECT_NE(stopped.checks[1].detail.find("not judged: the run was stopped at t=1.20 s"),
+            std::string::npos)
+      << stopped.checks[1].detail;
 }
 
 TEST_F(JudgeFixture, ARestartIsMeasuredToItsFirstValidSolutionAndItsGapIsNoDeadlineMiss) {
