@@ -38,6 +38,24 @@ std::map<long, double> per_second(const std::vector<double>& t, const std::vecto
   return out;
 }
 
+/// One run's NIS of a measurement at each whole second: the first update within [s, s + 1).
+/// Updates come when their measurement does (a fix applied at the next trigger, a compass
+/// every n frames), not on the second: each counts in the second it falls in, and one per
+/// second keeps the χ² of one update (an average of several would be narrower).
+std::map<long, double> first_each_second(const std::vector<double>& t, const std::vector<double>& v) {
+  std::map<long, double> out;
+  std::map<long, double> earliest;
+  for (std::size_t i = 0; i < t.size() && i < v.size(); ++i) {
+    if (!std::isfinite(v[i]) || !std::isfinite(t[i])) continue;
+    const long s = static_cast<long>(std::floor(t[i]));
+    if (auto it = earliest.find(s); it == earliest.end() || t[i] < it->second) {
+      earliest[s] = t[i];
+      out[s] = v[i];
+    }
+  }
+  return out;
+}
+
 std::string fmt(const char* f, double a, double b = 0, double c = 0, double d = 0) {
   char buf[160];
   std::snprintf(buf, sizeof buf, f, a, b, c, d);
@@ -140,7 +158,7 @@ std::vector<CellNees> campaign_nis(const std::filesystem::path& dir, const Campa
     for (const auto& [source, series] : reports::innovations_by_source(*csv)) {
       const auto [known, added] = dof_of.emplace(source, series.dof);
       if (known->second != series.dof) continue;  // another dimension than the first run's
-      auto values = per_second(series.t_s, series.nis);
+      auto values = first_each_second(series.t_s, series.nis);
       if (values.empty()) continue;
       auto& cells = by_source[source];
       cells.resize(plan.cells());

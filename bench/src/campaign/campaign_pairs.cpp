@@ -81,7 +81,8 @@ std::vector<PairedComparison> compare_variants(
         c.candidate = plan.variants[v].name;
         c.figure = figure;
         c.unit = unit;
-        std::vector<double> d;
+        std::vector<double> d;         // as measured
+        std::vector<double> ranked;    // with the differences below the resolution as ties
         for (std::uint64_t k = 0; k < plan.seeds; ++k) {
           const auto& b = results[base_cell + k * plan.cells()];
           const auto& a = results[cand_cell + k * plan.cells()];
@@ -92,8 +93,10 @@ std::vector<PairedComparison> compare_variants(
             continue;
           }
           d.push_back(va - vb);
+          ranked.push_back(std::abs(d.back()) < kPairedResolution ? 0.0 : d.back());
         }
-        c.test = signed_rank_test(d);
+        c.test = signed_rank_test(ranked);
+        c.test.median_difference = signed_rank_test(d).median_difference;
         c.worse = c.test.n > 0 && c.test.p_greater < alpha;
         const bool better = c.test.n > 0 && c.test.p_less < alpha;
         c.finding = c.worse ? "worse" : better ? "better" : "no difference shown";

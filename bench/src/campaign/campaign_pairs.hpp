@@ -8,7 +8,8 @@
 // Pairs: a run that reached the end (exit 0 or 1) gives its check's value, or +infinity when
 // the check measured nothing; a run whose DUT crashed or hung (exit 4) gives +infinity; a pair
 // with a run in bench error (exit 3), or missing, is left out, as is one where both are
-// infinite (no difference to rank).
+// infinite (no difference to rank). A difference below kPairedResolution is a tie (dropped,
+// as Wilcoxon drops zeros); the median paired difference is of the differences as measured.
 #pragma once
 
 #include <string>
@@ -24,6 +25,11 @@ namespace nav::bench::detail {
 
 /// The confidence at which a candidate is called worse (or better): one-sided p < 1 - it.
 inline constexpr double kPairedConfidence = 0.95;
+/// A paired difference smaller than this, in the figure's unit (m, deg, s), counts as none:
+/// the figures are printed to three decimals, and a difference that prints as ±0.000 (tens
+/// of micrometres between two filters that differ in the fifth decimal on every seed) is not
+/// one a gate should fail on, however consistent its sign.
+inline constexpr double kPairedResolution = 0.0005;
 
 struct PairedComparison {
   std::string scenario;

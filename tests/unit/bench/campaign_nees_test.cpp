@@ -95,10 +95,11 @@ TEST(CampaignNees, NothingStatedNothingReported) {
 
 /// The runs of make()'s plan also state innovations: "euler" (3 dof) at 20 Hz, NIS drawn as
 /// χ²₃ (times 4 in "overconfident"), and "depth" (1 dof) at 1 Hz, χ²₁, in every scenario but
-/// "silent".
+/// "silent"; and "fix" (2 dof) at 1 Hz half a second off the whole seconds, χ²₂, as a fix
+/// applied at the next trigger comes.
 void add_innovations(const Fixture& f) {
   std::mt19937_64 rng(43);
-  std::chi_squared_distribution<double> chi3(3.0), chi1(1.0);
+  std::chi_squared_distribution<double> chi3(3.0), chi1(1.0), chi2(2.0);
   for (std::size_t i = 0; i < f.plan.size(); ++i) {
     const std::size_t s = f.plan.scenario_of(i);
     if (s == 2) continue;
@@ -107,6 +108,7 @@ void add_innovations(const Fixture& f) {
     for (int k = 0; k <= 4000; ++k) {
       out << k * 0.05 << ",euler,3," << (s == 1 ? 4.0 : 1.0) * chi3(rng) << "\n";
       if (k % 20 == 0) out << k * 0.05 << ",depth,1," << chi1(rng) << "\n";
+      if (k % 20 == 10) out << k * 0.05 << ",fix,2," << chi2(rng) << "\n";
     }
     if (i == 0) out << "1,euler,2,100\n";  // another dimension for euler: left out
   }
@@ -116,7 +118,7 @@ TEST(CampaignNis, PerMeasurementWithItsOwnDimension) {
   const Fixture f = make(100);
   add_innovations(f);
   const auto nis = campaign_nis(f.dir, f.plan, f.results);
-  ASSERT_EQ(nis.size(), 5u);  // depth, euler of two cells; "silent" once
+  ASSERT_EQ(nis.size(), 7u);  // depth, euler, fix of two cells; "silent" once
   const auto& depth = nis[0];
   EXPECT_EQ(depth.cell, "consistent");
   EXPECT_EQ(depth.block, "depth");
@@ -133,14 +135,20 @@ TEST(CampaignNis, PerMeasurementWithItsOwnDimension) {
   EXPECT_EQ(euler.dof, 3);
   EXPECT_NEAR(euler.upper, 3.50, 0.01);
   EXPECT_LT(static_cast<double>(euler.outside) / static_cast<double>(euler.t_s.size()), 0.12);
-  const auto& over = nis[3];
+  // Each update counts in the second it falls in: 0.5, 1.5, …, 199.5 s.
+  const auto& fix = nis[2];
+  EXPECT_EQ(fix.block, "fix");
+  EXPECT_EQ(fix.dof, 2);
+  EXPECT_EQ(fix.t_s.size(), 200u);
+  EXPECT_NEAR(fix.time_mean, 2.0, 0.05);
+  const auto& over = nis[4];
   EXPECT_EQ(over.cell, "overconfident");
   EXPECT_EQ(over.block, "euler");
   EXPECT_GT(over.outside, over.t_s.size() * 99 / 100);
   EXPECT_EQ(over.text.substr(0, 4), "NIS ");
-  EXPECT_EQ(nis[4].cell, "silent");
-  EXPECT_EQ(nis[4].runs, 0u);
-  EXPECT_EQ(nis[4].text, "no innovations");
+  EXPECT_EQ(nis[6].cell, "silent");
+  EXPECT_EQ(nis[6].runs, 0u);
+  EXPECT_EQ(nis[6].text, "no innovations");
   EXPECT_EQ(nees_json(euler)["quantity"], "NIS");
   EXPECT_EQ(nees_json(euler)["dof"], 3);
 }

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 // DUT variants compared with the baseline pair by seed (campaign/campaign_pairs.hpp): a
 // candidate made worse is flagged, an identical one is not, a better one is called better;
-// crashes count as infinite errors, bench errors leave their pair out.
+// crashes count as infinite errors, bench errors leave their pair out; differences below the
+// printed resolution are ties.
 #include "campaign/campaign_pairs.hpp"
 
 #include <gtest/gtest.h>
@@ -71,6 +72,25 @@ TEST(CompareVariants, AnIdenticalCandidateIsNotFlaggedABetterOneIsCalledBetter) 
   const auto b = compare_variants(two_variants(6), results(base, better));
   EXPECT_FALSE(b[0].worse);
   EXPECT_EQ(b[0].finding, "better");
+}
+
+TEST(CompareVariants, DifferencesThatPrintAsZeroAreTiesHoweverConsistentTheirSign) {
+  const std::vector<double> base{1.0, 1.2, 0.9, 1.1, 1.0, 1.3, 0.8, 1.05};
+  std::vector<double> hair, just_over;
+  for (std::size_t k = 0; k < base.size(); ++k) {
+    hair.push_back(base[k] + 3e-5 * static_cast<double>(k + 1));  // every seed worse, by < 0.5 mm
+    just_over.push_back(base[k] + 6e-4);
+  }
+  const auto c = compare_variants(two_variants(8), results(base, hair));
+  ASSERT_EQ(c.size(), 1u);
+  EXPECT_FALSE(c[0].worse);
+  EXPECT_EQ(c[0].finding, "no difference shown");
+  EXPECT_EQ(c[0].test.n, 0u);  // all ties
+  EXPECT_EQ(c[0].test.pairs, 8u);
+  EXPECT_NEAR(c[0].test.median_difference, 1.35e-4, 1e-12);  // as measured
+  const auto o = compare_variants(two_variants(8), results(base, just_over));
+  EXPECT_TRUE(o[0].worse);
+  EXPECT_EQ(o[0].test.n, 8u);
 }
 
 TEST(CompareVariants, CrashesCountAsInfiniteErrorsBenchErrorsLeaveThePairOut) {
