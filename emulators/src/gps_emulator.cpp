@@ -4,7 +4,8 @@
 //
 // Epoch k (k = 0, 1, ... while t_k < duration):
 //   t_k       = k / rate_hz                                     time of validity [s]
-//   fix       = depth(t_k) <= max_depth_for_fix_m               (GPS only at the surface)
+//   fix       = depth(t_k) - surface(t_k) <= max_depth_for_fix_m  (GPS only at the surface;
+//               surface = Truth::surface_depth_m, the waves' at a craft in a sea, else 0)
 //   p~_n      = p_n(t_k) + [s_h n1, s_h n2, s_v n3]             NED [m]
 //   lat, lon, h = LocalTangentPlane(datum).to_geodetic(p~_n)    alt MSL = h (geoid sep. 0)
 //   v~_ne     = [v_N, v_E](t_k) + s_v' [n4, n5]                 [m/s]
@@ -88,7 +89,7 @@ Duration surfacing_time(const Truth& truth, double max_depth, Duration t_deep,
                         Duration t_shallow) {
   while (t_shallow - t_deep > kSurfaceTolerance) {
     const Duration mid = t_deep + (t_shallow - t_deep) / 2;
-    if (truth.at(mid).p_n.z() > max_depth) {
+    if (depth_below_surface_m(truth, truth.at(mid)) > max_depth) {
       t_deep = mid;
     } else {
       t_shallow = mid;
@@ -162,7 +163,7 @@ std::vector<WireMessage> generate_gps(const GpsConfig& cfg, const Truth& truth,
       noise_p_n += *wander_n;
     }
 
-    const bool shallow = s.p_n.z() <= cfg.max_depth_for_fix_m;
+    const bool shallow = depth_below_surface_m(truth, s) <= cfg.max_depth_for_fix_m;
     if (shallow && last_deep_t) {
       surfaced_at = surfacing_time(truth, cfg.max_depth_for_fix_m, *last_deep_t, t_valid);
     }

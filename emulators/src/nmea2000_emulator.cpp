@@ -36,7 +36,7 @@
 // their noise differs at a common t_k: accepted for an emulator, the receiver's solutions are
 // not modelled.)
 //
-// GNSS only at the surface (as generate_gps): fix(t) = depth(t) <= max_depth_for_fix_m and
+// GNSS only at the surface (as generate_gps): fix(t) = depth(t) - surface(t) <= max_depth_for_fix_m and
 // t >= t_surface + reacquisition for the last surfacing t_surface <= t. Surfacings are found on
 // the receiver's own 10 Hz tracking grid over [0, duration] (the last deep and the first
 // shallow grid point bracket a surfacing, located by bisection on truth to 1 us), so the fix
@@ -92,7 +92,7 @@ class GnssFix {
       : truth_(truth), max_depth_(cfg.max_depth_for_fix_m), reacquisition_(cfg.reacquisition) {
     std::optional<Duration> last_deep;
     for (Duration t{0};; t += kTrackingStep) {
-      const bool deep = truth.at(t).p_n.z() > max_depth_;
+      const bool deep = depth_below_surface_m(truth, truth.at(t)) > max_depth_;
       if (!deep && last_deep) surfacings_.push_back(surfacing_time(*last_deep, t));
       last_deep = deep ? std::optional<Duration>(t) : std::nullopt;
       if (t >= duration) break;
@@ -101,7 +101,7 @@ class GnssFix {
 
   /// True when the receiver has a fix at t (t <= the duration given).
   bool at(Duration t) const {
-    if (truth_.at(t).p_n.z() > max_depth_) return false;
+    if (depth_below_surface_m(truth_, truth_.at(t)) > max_depth_) return false;
     const auto after = std::upper_bound(surfacings_.begin(), surfacings_.end(), t);
     if (after == surfacings_.begin()) return true;
     return t - *std::prev(after) >= reacquisition_;
@@ -112,7 +112,7 @@ class GnssFix {
   Duration surfacing_time(Duration t_deep, Duration t_shallow) const {
     while (t_shallow - t_deep > kSurfaceTolerance) {
       const Duration mid = t_deep + (t_shallow - t_deep) / 2;
-      if (truth_.at(mid).p_n.z() > max_depth_) {
+      if (depth_below_surface_m(truth_, truth_.at(mid)) > max_depth_) {
         t_deep = mid;
       } else {
         t_shallow = mid;

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// The sea-state truth kind (see sea_state_truth.hpp for SS1..SS9).
+// The sea-state truth kind (see sea_state_truth.hpp for SS1..SS11).
 #include "nav/emulators/sea_state_truth.hpp"
 
 #include <array>
@@ -186,6 +186,15 @@ Vec3 SeaStateTruth::water_velocity_n(Duration t) const {
   const Vec3 drift_n = free_drift_ ? water_n_ : Vec3::Zero();
   const Waves w = waves(t_s, b.p_n + drift_n * t_s, b.v_n + drift_n, b.a_n);
   return water_n_ + Vec3{w.xi_dot * d_n_.x(), w.xi_dot * d_n_.y(), -w.eta_dot};  // SS10
+}
+
+double SeaStateTruth::surface_depth_m(Duration t) const {
+  NAV_ENSURE(t.count() >= 0, "truth is defined for t >= 0 only");
+  const double t_s = to_seconds(t);
+  const TruthSample b = nominal_->at(t);
+  const Vec3 drift_n = free_drift_ ? water_n_ : Vec3::Zero();
+  const Waves w = waves(t_s, b.p_n + drift_n * t_s, b.v_n + drift_n, b.a_n);
+  return -w.eta - offset0_n_.z();                                                // SS11
 }
 
 }  // namespace nav::emulators

@@ -2,7 +2,8 @@
 // The sea-state truth kind: consistent (integration recovers the states) on a curved path in
 // P4's sea and in twice its height, calm = the nominal, deterministic per seed, the signs of
 // heave, surge, pitch and roll against hand-made single waves, the body along the surface
-// normal, and the wind and drift velocities. (Its spectrum: wave_spectrum_test.cpp.)
+// normal, the wind and drift velocities, and the surface it rides (a GPS on it keeps its fix
+// in a sea whose heave is deeper than the fix cut-off). (Its spectrum: wave_spectrum_test.cpp.)
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -11,7 +12,9 @@
 #include <numbers>
 #include <vector>
 
+#include "nav/emulators/device.hpp"
 #include "nav/emulators/sea_state_truth.hpp"
+#include "nav/protocols/nmea0183.hpp"
 #include "nav/emulators/truth.hpp"
 #include "truth_consistency.hpp"
 
@@ -109,6 +112,48 @@ TEST(SeaStateTruth, StartsOnItsMarkTiltedAndHeavesAndTiltsInTheWaves) {
   // Slopes of a few degrees (rms about 2.5 deg here).
   EXPECT_GT(worst_tilt, 2 * kDeg);
   EXPECT_LT(worst_tilt, 20 * kDeg);
+}
+
+TEST(SeaStateTruth, RidesTheSurfaceSoItIsNeverBelowIt) {
+  const auto nominal = curved_path();
+  const auto sea = SeaStateTruth::build(nominal, p4_sea(1.2), 42, kG);
+  ASSERT_TRUE(sea);
+  double deepest = 0.0;
+  for (int k = 0; k <= 600; ++k) {
+    const TruthSample s = sea->at(milliseconds(100 * k));
+    deepest = std::max(deepest, s.p_n.z());
+    EXPECT_NEAR(depth_below_surface_m(*sea, s), 0.0, 1e-12) << k;  // SS11
+  }
+  EXPECT_GT(deepest, 0.5);  // the troughs take it below the GPS's default fix cut-off
+}
+
+TEST(SeaStateTruth, AGpsOnTheCraftKeepsItsFixInTroughsDeeperThanTheCutOff) {
+  const auto sea = SeaStateTruth::build(curved_path(), p4_sea(1.2), 42, kG);
+  ASSERT_TRUE(sea);
+  GpsConfig cfg;
+  cfg.rate_hz = 10.0;
+  ASSERT_EQ(cfg.max_depth_for_fix_m, 0.5);
+  const auto msgs = generate_gps(cfg, *sea, seconds(60), 1);
+  ASSERT_EQ(msgs.size(), 600u);
+  std::size_t deep = 0;
+  for (const WireMessage& m : msgs) {
+    deep += sea->at(m.t_valid).p_n.z() > cfg.max_depth_for_fix_m ? 1 : 0;
+    protocols::ByteSpan rest(m.bytes);
+    bool rmc_valid = false;
+    while (!rest.empty()) {
+      const auto r = protocols::nmea::parse(rest);
+      ASSERT_EQ(r.status, protocols::ParseStatus::kComplete) << r.error;
+      ASSERT_TRUE(r.message);
+      if (r.message->type == "RMC") {
+        const auto rmc = protocols::nmea::decode_rmc(*r.message);
+        ASSERT_TRUE(rmc);
+        rmc_valid = rmc->valid;
+      }
+      rest = rest.subspan(r.consumed);
+    }
+    EXPECT_TRUE(rmc_valid) << to_seconds(m.t_valid);
+  }
+  EXPECT_GT(deep, 0u);  // epochs deeper than the cut-off below the mean level
 }
 
 TEST(SeaStateTruth, ACalmSeaIsTheNominalExactly) {

@@ -43,6 +43,7 @@ class MountedTruth final : public Truth {
   /// The vehicle's water and wind: a device sees the sea its vehicle is in.
   Vec3 water_velocity_n(Duration t) const override { return body_->water_velocity_n(t); }
   Vec3 wind_velocity_n(Duration t) const override { return body_->wind_velocity_n(t); }
+  double surface_depth_m(Duration t) const override { return body_->surface_depth_m(t); }
 
  private:
   /// The body's angular acceleration at t, in b [rad/s^2].

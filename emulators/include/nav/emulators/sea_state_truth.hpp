@@ -8,7 +8,7 @@
 // at Tp = 5.3 s the peak wave is g Tp^2 / (2 pi) = 44 m long, the shortest component
 // (4 wp, wave_spectrum.hpp) 2.7 m, against a beacon of about a metre.
 // The sea is long-crested (one direction), deep water, linear (Airy) theory, the components
-// of a JONSWAP spectrum (wave_spectrum.hpp). Labels SS1..SS9 are this file's own.
+// of a JONSWAP spectrum (wave_spectrum.hpp). Labels SS1..SS11 are this file's own.
 //
 // With the nominal truth N(t) (p, v, a, q, omega; yaw psi and its rate psi'), the waves
 // coming from beta_from (0 = North, + East, like wind), so travelling along
@@ -49,6 +49,8 @@
 //   SS10 water at the craft = water_n + (xi' d_N, xi' d_E, -eta')   the drift plus the waves'
 //        orbital velocity at the surface: v_n - water = the nominal velocity (plus the drift
 //        when drifting free) minus water_n, the craft's velocity through the water
+//   SS11 surface at the craft = -eta + eta(0)   (depth, NED; SS4's offset) so that depth minus
+//        surface is the nominal's, 0: a GNSS antenna on the craft never goes under water
 #pragma once
 
 #include <cstdint>
@@ -109,6 +111,10 @@ class SeaStateTruth final : public Truth {
   Vec3 water_velocity_n(Duration t) const override;
   /// The wind, the same everywhere and always (SS9) [m/s].
   Vec3 wind_velocity_n(Duration /*t*/) const override { return wind_n_; }
+  /// SS11: the surface at the craft, -eta + eta(0) (SS4's offset: depths are measured from
+  /// the surface where the craft starts): the craft rides it, so its depth minus this is the
+  /// nominal's, 0 on a surface path [m].
+  double surface_depth_m(Duration t) const override;
 
  private:
   SeaStateTruth() = default;

@@ -44,11 +44,21 @@ class Truth {
   /// The wind over ground at the body at scenario time t, NED [m/s]. Calm unless the kind
   /// models it.
   virtual Vec3 wind_velocity_n(Duration /*t*/) const { return Vec3::Zero(); }
+  /// The depth of the water surface at the body at scenario time t, NED [m]: 0 (the level
+  /// depths are measured from) unless the kind models waves (sea_state_truth.hpp), whose
+  /// craft rides the surface as it heaves. A device mount sees its vehicle's.
+  virtual double surface_depth_m(Duration /*t*/) const { return 0.0; }
 
  protected:
   Truth() = default;
   Truth(const Truth&) = default;
   Truth& operator=(const Truth&) = default;
 };
+
+/// How far below the water surface a truth sample of `truth` at its time is [m]: its depth
+/// minus the surface's (what decides whether a GNSS antenna has a fix).
+inline double depth_below_surface_m(const Truth& truth, const TruthSample& s) {
+  return s.p_n.z() - truth.surface_depth_m(s.t);
+}
 
 }  // namespace nav::emulators
