@@ -4,7 +4,9 @@
 // Each scenario runs once in lockstep (bit-reproducible); with NAV_GOLDEN_P3 (the vcan test
 // golden_p3_test) the paper P3 scenarios instead, scenarios/p3-*.yaml with each navd method
 // (--variant dr, ekf, ekf-kr), whose wheel encoders are on vcan0: their output also shows
-// that CAN frames and serial lines reach navd in the same order on every run; the DUT's output line is taken from
+// that CAN frames and serial lines reach navd in the same order on every run; with
+// NAV_GOLDEN_P4 (golden_p4_test) the paper P4 scenarios, scenarios/p4-*.yaml with each navd
+// method (--variant ukf, dwt-ukf), a beacon INS and a GPS on two ptys. The DUT's output line is taken from
 // the run's capture-rx.log and summarised as: the number of solutions, a 64-bit FNV-1a digest
 // of every output byte, and every 200th $PNVBSOL line plus the last, so a reviewer sees where
 // a change shows. With NAV_UPDATE_GOLDEN=1 in the environment the test writes the golden file
@@ -32,16 +34,19 @@ namespace fs = std::filesystem;
 
 constexpr std::size_t kEvery = 200;  // solutions between two quoted lines
 
-#ifdef NAV_GOLDEN_P3
+#if defined(NAV_GOLDEN_P3)
 constexpr const char* kPapers[] = {"p3-"};
 constexpr const char* kVariants[] = {"dr", "ekf", "ekf-kr"};  // scenarios/navd/p3-<variant>.yaml
+#elif defined(NAV_GOLDEN_P4)
+constexpr const char* kPapers[] = {"p4-"};
+constexpr const char* kVariants[] = {"ukf", "dwt-ukf"};  // scenarios/navd/p4-<variant>.yaml
 #else
 constexpr const char* kPapers[] = {"p0-", "p1-"};
 constexpr const char* kVariants[] = {""};  // none
 #endif
 
 /// The paper scenarios, by name (scenarios/p0-*.yaml: p0-pool-* and p0-paper-*;
-/// scenarios/p1-*.yaml; or scenarios/p3-*.yaml), each as "<name>" or "<name>@<variant>",
+/// scenarios/p1-*.yaml; or scenarios/p3-*.yaml; or scenarios/p4-*.yaml), each as "<name>" or "<name>@<variant>",
 /// sorted.
 std::vector<std::string> golden_scenarios() {
   std::vector<std::string> names;
