@@ -301,7 +301,8 @@ std::string paired_comparisons(const CampaignFolder& c) {
   return h + "</table><p class=\"note\">Each variant against the baseline (the first "
              "--variant) on the same scenario and seeds: same truth and sensor data, so the runs "
              "pair by seed. Wilcoxon's signed-rank test of the differences (candidate minus "
-             "baseline), one-sided: worse (or better) when p &lt; 0.05. A run whose DUT measured "
+             "baseline), one-sided: worse (or better) when p &lt; 0.05; differences below 0.0005 "
+             "in the figure's unit (printed 0.000) are ties. A run whose DUT measured "
              "nothing, crashed or hung counts as an infinite error; a worse candidate makes the "
              "campaign exit 1.</p></section>\n";
 }

@@ -29,6 +29,10 @@ inline std::string fixed(std::optional<double> v, int decimals = 3) {
   if (!v || !std::isfinite(*v)) return "\u2014";
   char b[64];
   std::snprintf(b, sizeof b, "%.*f", decimals, *v);
+  // A value that rounds to zero prints as 0.000, not -0.000.
+  if (b[0] == '-' && std::string_view(b + 1).find_first_not_of("0.") == std::string_view::npos) {
+    return b + 1;
+  }
   return b;
 }
 

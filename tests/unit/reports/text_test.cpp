@@ -1,12 +1,13 @@
 // SPDX-License-Identifier: MIT
 // Text from files and processes in the bench's documents: UTF-8 repair, HTML and XML
-// escaping, JSON that any byte survives.
+// escaping, JSON that any byte survives, numbers in the reports' tables.
 #include <gtest/gtest.h>
 
 #include <string>
 
 #include <nlohmann/json.hpp>
 
+#include "html_text.hpp"
 #include "nav/reports/json_text.hpp"
 #include "nav/reports/text.hpp"
 
@@ -14,6 +15,16 @@ namespace nav::reports {
 namespace {
 
 const std::string kFffd = "\xEF\xBF\xBD";
+
+TEST(FixedDecimals, AValueThatRoundsToZeroHasNoMinusSign) {
+  EXPECT_EQ(detail::fixed(-3e-5), "0.000");
+  EXPECT_EQ(detail::fixed(-0.0), "0.000");
+  EXPECT_EQ(detail::fixed(-0.0004, 4), "-0.0004");
+  EXPECT_EQ(detail::fixed(-0.135), "-0.135");
+  EXPECT_EQ(detail::fixed(-1000.0002), "-1000.000");
+  EXPECT_EQ(detail::fixed(2.5), "2.500");
+  EXPECT_EQ(detail::fixed(std::nullopt), "\u2014");
+}
 
 TEST(ValidUtf8, ValidTextIsUnchanged) {
   for (const std::string s : {"", "plain ascii", "d\xC3\xA9j\xC3\xA0 vu", "\xE2\x80\x93 dash",
