@@ -109,7 +109,24 @@ emulators::SeaSpec read_sea(const Field& f) {
   emulators::SeaSpec s;
   s.spectrum.significant_height_m =
       m.required("significant_height").quantity(Dimension::kLength, Bound::kNonNegative);
-  s.spectrum.peak_period_s = m.required("peak_period").quantity(Dimension::kTime, Bound::kPositive);
+  const Field tp = m.required("peak_period");
+  s.spectrum.peak_period_s = tp.quantity(Dimension::kTime, Bound::kPositive);
+  // The sea's steepness S_p = 2 pi Hs / (g Tp^2), Hs over the peak wave's deep-water length:
+  // severe seas stay about 1/16 to 1/20 (API RP 2MET), a single wave breaks at H/L = 1/7
+  // (Michell 1893); past 1/10 there is no such sea, and linear waves are far from any.
+  constexpr double kMaxSteepness = 0.1;
+  constexpr double kStandardGravity = 9.80665;  // the sea's, not the scenario's navigation g
+  const double steepness = 2.0 * std::numbers::pi * s.spectrum.significant_height_m /
+                           (kStandardGravity * s.spectrum.peak_period_s * s.spectrum.peak_period_s);
+  if (steepness > kMaxSteepness) {
+    char buf[200];
+    std::snprintf(buf, sizeof buf,
+                  "a sea of %g m significant height and %g s peak period is %.2g steep "
+                  "(2 pi Hs / (g Tp^2)); seas stay below 1/10 (waves break at 1/7): give a "
+                  "longer period or a lower sea",
+                  s.spectrum.significant_height_m, s.spectrum.peak_period_s, steepness);
+    tp.fail(buf);
+  }
   s.from_rad = m.required("from").quantity(Dimension::kAngle, Bound::kAny);
   if (auto v = m.optional("gamma")) {
     const std::string expected = "a JONSWAP peak enhancement from 1 (Pierson-Moskowitz) to 7";

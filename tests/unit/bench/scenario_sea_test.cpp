@@ -95,7 +95,11 @@ TEST(SeaScenario, RefusesAtTheLineAndColumn) {
        ":6:29: ", "length"},
       {scenario("  sea: {significant_height: 0.6 m, peak_period: 0 s, from: 90 deg}\n"),
        ":6:49: ", "duration"},
-      {scenario("  sea: {" + p4 + ", gamma: 0.5}\n"), ":6:77: ", "from 1 (Pierson-Moskowitz)"},
+      // 2 pi 5 / (g 1.5^2) = 1.4: no such sea; 1000 m at 5.3 s neither.
+      {scenario("  sea: {significant_height: 5 m, peak_period: 1.5 s, from: 90 deg}\n"),
+       ":6:47: ", "is 1.4 steep"},
+      {scenario("  sea: {significant_height: 1000 m, peak_period: 5.3 s, from: 90 deg}\n"),
+       ":6:50: ", "seas stay below 1/10"},
       {scenario("  sea: {" + p4 + ", gamma: 8}\n"), ":6:77: ", "to 7"},
       {scenario("  sea: {" + p4 + ", components: 0}\n"), ":6:82: ", "integer from 1"},
       {scenario("  sea: {significant_height: 0.6 m, from: 90 deg}\n"), ":6:", "peak_period"},
