@@ -13,6 +13,7 @@
 #include "config_p3.hpp"
 #include "config_p4.hpp"
 #include "nav/common/escape.hpp"
+#include "nav/common/format.hpp"
 #include "nav/estimator/p1_driver.hpp"
 
 namespace nav::dut {
@@ -69,12 +70,6 @@ const NavdField* find_navd_field(const std::string& key) {
     if (key == f.name) return &f;
   }
   return nullptr;
-}
-
-std::string format_g(double v) {
-  char value[32];
-  std::snprintf(value, sizeof value, "%g", v);
-  return value;
 }
 
 /// Sets `navigator` or `attitude_filter` from a scalar; the error is the reason only.

@@ -7,6 +7,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "nav/common/format.hpp"
+
 namespace nav::dut {
 namespace {
 
@@ -76,12 +78,6 @@ const std::array<P4Field, 19> kFields = {{
 #undef NAV_P4_SCALAR
 
 Result<void> bad(const std::string& what) { return fail(ErrorCode::kInvalidArgument, what); }
-
-std::string format_g(double v) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%g", v);
-  return text;
-}
 
 const std::array<P4ChoiceField, 3> kChoices = {{
     {"p4_rmc_velocity", "true or false: fuse RMC speed/course as the NED velocity (B10)",

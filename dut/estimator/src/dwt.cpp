@@ -8,6 +8,7 @@
 #include <string>
 
 #include "nav/common/ensure.hpp"
+#include "nav/common/format.hpp"
 
 namespace nav::estimator {
 namespace {
@@ -45,12 +46,6 @@ FilterBank make_bank(const std::array<double, L>& rec_lo) {
     fb.rec_hi[n] = fb.dec_hi[L - 1 - n];                             // g reversed
   }
   return fb;
-}
-
-std::string format_value(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", v);
-  return buf;
 }
 
 // x̃[i] of the half-point symmetric extension of x (W6), reflected as often as needed.
@@ -249,7 +244,7 @@ Result<void> validate(const DwtThreshold& t) {
   if (t.rule == ThresholdRule::kFixed && !(std::isfinite(t.lambda) && t.lambda >= 0.0)) {
     return fail(ErrorCode::kInvalidArgument,
                 "dwt threshold: a fixed lambda must be finite and >= 0 (got " +
-                    format_value(t.lambda) + ")");
+                    format_g(t.lambda) + ")");
   }
   return {};
 }

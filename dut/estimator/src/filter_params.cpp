@@ -6,14 +6,10 @@
 #include <numbers>
 #include <string>
 
+#include "nav/common/format.hpp"
+
 namespace nav::estimator {
 namespace {
-
-std::string format_value(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", v);
-  return buf;
-}
 
 constexpr ParamField kFields[] = {
     {"attitude_kp_per_s", &FilterParams::attitude_kp_per_s,
@@ -149,7 +145,7 @@ Result<void> validate(const FilterParams& p) {
     if (!ok) {
       return fail(ErrorCode::kInvalidArgument,
                   std::string(r.name) + " must be " + (r.strictly_positive ? "> 0" : ">= 0") +
-                      " (got " + format_value(r.value) + ")");
+                      " (got " + format_g(r.value) + ")");
     }
   }
   const RangeRule ranges[] = {
@@ -168,8 +164,8 @@ Result<void> validate(const FilterParams& p) {
   for (const RangeRule& r : ranges) {
     if (r.value < r.min || r.value > r.max) {
       return fail(ErrorCode::kInvalidArgument,
-                  std::string(r.name) + " must be in [" + format_value(r.min) + ", " +
-                      format_value(r.max) + "] (got " + format_value(r.value) + ")");
+                  std::string(r.name) + " must be in [" + format_g(r.min) + ", " +
+                      format_g(r.max) + "] (got " + format_g(r.value) + ")");
     }
   }
   if (std::abs(p.magnetic_declination_rad) > std::numbers::pi) {

@@ -5,14 +5,10 @@
 #include <cstdio>
 #include <string>
 
+#include "nav/common/format.hpp"
+
 namespace nav::estimator {
 namespace {
-
-std::string format_value(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", v);
-  return buf;
-}
 
 /// A scalar field and the range it must lie in.
 struct Rule {
@@ -38,7 +34,7 @@ Result<void> validate(const P1Params& p) {
   if (!p.initial_q_nb.coeffs().allFinite() || std::abs(p.initial_q_nb.norm() - 1.0) > 1e-6) {
     return fail(ErrorCode::kInvalidArgument,
                 "initial_q_nb must be a finite unit quaternion (got norm " +
-                    format_value(p.initial_q_nb.norm()) + ")");
+                    format_g(p.initial_q_nb.norm()) + ")");
   }
   // The Earth's field is below 70 µT: a bound of 1 mT catches a value written in µT or G.
   if (!p.mag_field_n_tesla.allFinite() || p.mag_field_n_tesla.cwiseAbs().maxCoeff() > 1e-3) {
@@ -74,12 +70,12 @@ Result<void> validate(const P1Params& p) {
     if (!ok) {
       return fail(ErrorCode::kInvalidArgument,
                   std::string(r.name) + " must be " + (r.strictly_positive ? "> 0" : ">= 0") +
-                      " (got " + format_value(r.value) + ")");
+                      " (got " + format_g(r.value) + ")");
     }
   }
   if (p.resample_ess_fraction > 1.0) {
     return fail(ErrorCode::kInvalidArgument, "resample_ess_fraction must be in (0, 1] (got " +
-                                                 format_value(p.resample_ess_fraction) + ")");
+                                                 format_g(p.resample_ess_fraction) + ")");
   }
   if (p.particle_count < 1 || p.particle_count > P1Params::kMaxParticles) {
     return fail(ErrorCode::kInvalidArgument,

@@ -10,16 +10,11 @@
 #include <Eigen/Cholesky>
 
 #include "nav/common/ensure.hpp"
+#include "nav/common/format.hpp"
 #include "nav/common/frames.hpp"
 
 namespace nav::estimator {
 namespace {
-
-std::string format_value(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", v);
-  return buf;
-}
 
 /// A field of P4UkfParams and the rule it obeys.
 struct Field {
@@ -64,7 +59,7 @@ Eigen::Matrix2d integrated_white_noise(double q, double dt) {
 Result<void> validate(const P4UkfParams& p) {
   for (const Field& f : kFields) {
     const double v = p.*(f.member);
-    const std::string got = " (got " + format_value(v) + ")";
+    const std::string got = " (got " + format_g(v) + ")";
     if (!std::isfinite(v)) {
       return fail(ErrorCode::kInvalidArgument, std::string(f.name) + " must be finite" + got);
     }

@@ -6,16 +6,9 @@
 #include <cstdio>
 #include <string>
 
+#include "nav/common/format.hpp"
+
 namespace nav::estimator {
-namespace {
-
-std::string format_value(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", v);
-  return buf;
-}
-
-}  // namespace
 
 Result<void> validate(const UnscentedParams& p, int n) {
   if (n < 1) {
@@ -28,18 +21,18 @@ Result<void> validate(const UnscentedParams& p, int n) {
   }
   if (!(p.alpha > 0.0 && p.alpha <= 1.0)) {
     return fail(ErrorCode::kInvalidArgument,
-                "unscented alpha must be in (0, 1] (got " + format_value(p.alpha) + ")");
+                "unscented alpha must be in (0, 1] (got " + format_g(p.alpha) + ")");
   }
   // β < 0 could make the transformed covariance indefinite (unscented.hpp, U6).
   if (p.beta < 0.0) {
     return fail(ErrorCode::kInvalidArgument,
-                "unscented beta must be >= 0 (got " + format_value(p.beta) + ")");
+                "unscented beta must be >= 0 (got " + format_g(p.beta) + ")");
   }
   // N + λ = α² (N + κ) must be > 0: γ is its square root and the weights divide by it (U1, U3).
   if (!(n + p.kappa > 0.0)) {
     return fail(ErrorCode::kInvalidArgument,
                 "unscented kappa must be > -n = " + std::to_string(-n) + " (got " +
-                    format_value(p.kappa) + ")");
+                    format_g(p.kappa) + ")");
   }
   return {};
 }
