@@ -14,7 +14,7 @@
 //                                                  (AHRS, or the P3/P4 trigger input) first,
 //                                                  then GPS, then the other --input ports
 //                                                  in command-line order, then the CAN
-//                                                  socket (when marked), then the modem;
+//                                                  socket (marked or not), then the modem;
 //                                                  feed each port's stream decoder
 //                                                  (--input messages, CAN frames and peer
 //                                                  reports are counted and the last one
