@@ -179,22 +179,21 @@ TruthSample SeaStateTruth::at(Duration t) const {
   return out;
 }
 
-Vec3 SeaStateTruth::water_velocity_n(Duration t) const {
+SeaStateTruth::Waves SeaStateTruth::waves_at(Duration t) const {
   NAV_ENSURE(t.count() >= 0, "truth is defined for t >= 0 only");
   const double t_s = to_seconds(t);
   const TruthSample b = nominal_->at(t);
   const Vec3 drift_n = free_drift_ ? water_n_ : Vec3::Zero();
-  const Waves w = waves(t_s, b.p_n + drift_n * t_s, b.v_n + drift_n, b.a_n);
+  return waves(t_s, b.p_n + drift_n * t_s, b.v_n + drift_n, b.a_n);
+}
+
+Vec3 SeaStateTruth::water_velocity_n(Duration t) const {
+  const Waves w = waves_at(t);
   return water_n_ + Vec3{w.xi_dot * d_n_.x(), w.xi_dot * d_n_.y(), -w.eta_dot};  // SS10
 }
 
 double SeaStateTruth::surface_depth_m(Duration t) const {
-  NAV_ENSURE(t.count() >= 0, "truth is defined for t >= 0 only");
-  const double t_s = to_seconds(t);
-  const TruthSample b = nominal_->at(t);
-  const Vec3 drift_n = free_drift_ ? water_n_ : Vec3::Zero();
-  const Waves w = waves(t_s, b.p_n + drift_n * t_s, b.v_n + drift_n, b.a_n);
-  return -w.eta - offset0_n_.z();                                                // SS11
+  return -waves_at(t).eta - offset0_n_.z();                                      // SS11
 }
 
 }  // namespace nav::emulators

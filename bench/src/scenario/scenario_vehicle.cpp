@@ -115,9 +115,9 @@ emulators::SeaSpec read_sea(const Field& f) {
   // severe seas stay about 1/16 to 1/20 (API RP 2MET), a single wave breaks at H/L = 1/7
   // (Michell 1893); past 1/10 there is no such sea, and linear waves are far from any.
   constexpr double kMaxSteepness = 0.1;
-  constexpr double kStandardGravity = 9.80665;  // the sea's, not the scenario's navigation g
-  const double steepness = 2.0 * std::numbers::pi * s.spectrum.significant_height_m /
-                           (kStandardGravity * s.spectrum.peak_period_s * s.spectrum.peak_period_s);
+  const double steepness =
+      2.0 * std::numbers::pi * s.spectrum.significant_height_m /
+      (units::kStandardGravity * s.spectrum.peak_period_s * s.spectrum.peak_period_s);
   if (steepness > kMaxSteepness) {
     char buf[200];
     std::snprintf(buf, sizeof buf,

@@ -127,6 +127,8 @@ class SeaStateTruth final : public Truth {
     double s = 0.0, s_dot = 0.0;                      ///< grad eta = -s d (SS5) [-, 1/s]
   };
   Waves waves(double t_s, const Vec3& x_n, const Vec3& v_n, const Vec3& a_n) const;
+  /// The same at scenario time t, at the nominal's place (drifting with the water when free).
+  Waves waves_at(Duration t) const;
 
   std::shared_ptr<const Truth> nominal_;
   std::vector<WaveComponent> components_;
