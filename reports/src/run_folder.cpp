@@ -265,9 +265,11 @@ Result<RunFolder> read_run_folder(const std::string& dir) {
     VehicleFiles v;
     v.name = name;
     v.primary = primary;
+    // (v's copies, not the structured bindings: clang 14 cannot capture those)
     const auto file = [&](const std::string& kind) {
-      const fs::path own = root / (kind + "-" + name + ".tum");
-      return name.empty() || (primary && !fs::exists(own, ec)) ? root / (kind + ".tum") : own;
+      const fs::path own = root / (kind + "-" + v.name + ".tum");
+      return v.name.empty() || (v.primary && !fs::exists(own, ec)) ? root / (kind + ".tum")
+                                                                    : own;
     };
     const auto tum = [](std::vector<TumPose>& into) {
       return [&into](const std::string& path) -> Result<bool> {

@@ -202,8 +202,9 @@ int record_can(const RecordOptions& o) {
   std::fflush(stdout);
 
   namespace cd = protocols::candump;
+  FILE* const out = f.get();  // (the lambda's: clang 14 cannot capture a structured binding)
   const bool write_failed = watch_ports(
-      ports, +[](const CanPort& p) { return p.socket.fd(); }, f.get(), bounded, end, *io,
+      ports, +[](const CanPort& p) { return p.socket.fd(); }, out, bounded, end, *io,
       [&](CanPort& p) {
         for (;;) {
           auto got = p.socket.receive();
@@ -230,7 +231,7 @@ int record_can(const RecordOptions& o) {
             rec.frame.data[b] = 0;
           }
           const std::string line = cd::format_line(rec, width) + "\n";
-          std::fputs(line.c_str(), f.get());
+          std::fputs(line.c_str(), out);
           ++p.frames;
         }
       });
@@ -299,8 +300,10 @@ int record_ports(const RecordOptions& o) {
   std::fflush(stdout);
 
   std::uint8_t buf[4096];
+  FILE* const out = f.get();  // (the lambda's: clang 14 cannot capture a structured binding)
+  const Timestamp t0 = start;
   const bool write_failed = watch_ports(
-      ports, +[](const Port& p) { return p.serial.fd(); }, f.get(), bounded, end, *io,
+      ports, +[](const Port& p) { return p.serial.fd(); }, out, bounded, end, *io,
       [&](Port& p) {
         for (;;) {
           auto n = p.serial.read_some(buf);
@@ -312,7 +315,7 @@ int record_ports(const RecordOptions& o) {
           }
           if (*n == 0) break;
           const Timestamp rx = monotonic_now();
-          write_capture_line(f.get(), rx - start, p.name, std::span(buf, *n));
+          write_capture_line(out, rx - t0, p.name, std::span(buf, *n));
           p.bytes += *n;
           ++p.reads;
         }

@@ -261,7 +261,9 @@ TEST(EulerKinematics, JacobiansMatchCentralDifferences) {
                        Vec3(rate(rng), rate(rng), rate(rng)));
   }
   const double dt = 0.05;
-  for (const auto& [x, omega] : cases) {
+  for (const auto& c : cases) {
+    const EulerState& x = c.first;
+    const Vec3& omega = c.second;
     // WHEN the analytic Jacobians are compared with central differences
     const Mat<3, 3> J = euler_rates_jacobian(x, omega);
     const Mat<3, 3> J_num = numeric_jacobian(

@@ -188,9 +188,12 @@ class StadiumRun {
     errors_.gyro_noise_radps_rthz = params_.gyro_noise_radps_rthz;
     errors_.accel_noise_mps2_rthz = params_.accel_noise_mps2_rthz;
     errors_.mag_std_tesla = params_.mag_std_tesla;
-    const Vec3 rho0(params_.initial_tilt_std_rad * noise_(),
-                    params_.initial_tilt_std_rad * noise_(),
-                    params_.initial_heading_std_rad * noise_());
+    // One draw per statement: the order of a call's arguments is unspecified (GCC takes them
+    // last to first, clang first to last), and the tests' figures are from z, y, x.
+    const double rho0_z = params_.initial_heading_std_rad * noise_();
+    const double rho0_y = params_.initial_tilt_std_rad * noise_();
+    const double rho0_x = params_.initial_tilt_std_rad * noise_();
+    const Vec3 rho0(rho0_x, rho0_y, rho0_z);
     params_.initial_p_n_m = t0.p_n - params_.initial_position_std_m * noise_.vec3();
     params_.initial_v_n_mps = t0.v_n - params_.initial_velocity_std_mps * noise_.vec3();
     params_.initial_q_nb = (quat_exp(-rho0) * t0.q_nb()).normalized();  // q_true = Exp(ρ0) q̂
