@@ -9,11 +9,9 @@ target_compile_options(nav_warnings INTERFACE
 function(nav_add_test)
   cmake_parse_arguments(T "" "NAME" "SOURCES;LIBS;LABELS" ${ARGN})
   add_executable(${T_NAME} ${T_SOURCES})
-  target_link_libraries(${T_NAME} PRIVATE ${T_LIBS} GTest::gtest_main nav_warnings)
+  target_link_libraries(${T_NAME} PRIVATE ${T_LIBS} GTest::gtest_main nav_source_paths
+                                          nav_warnings)
   nav_use_test_pch(${T_NAME})
-  target_compile_definitions(${T_NAME} PRIVATE
-    NAV_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
-    NAV_BINARY_DIR="${CMAKE_RUNTIME_OUTPUT_DIRECTORY}")
   set(props TIMEOUT 300)
   if("integration" IN_LIST T_LABELS)
     # Integration tests measure timing on ptys: never alongside another test.
@@ -41,11 +39,9 @@ endfunction()
 function(nav_add_vcan_test)
   cmake_parse_arguments(T "" "NAME" "SOURCES;LIBS" ${ARGN})
   add_executable(${T_NAME} ${T_SOURCES})
-  target_link_libraries(${T_NAME} PRIVATE ${T_LIBS} GTest::gtest_main nav_warnings)
+  target_link_libraries(${T_NAME} PRIVATE ${T_LIBS} GTest::gtest_main nav_source_paths
+                                          nav_warnings)
   nav_use_test_pch(${T_NAME})
-  target_compile_definitions(${T_NAME} PRIVATE
-    NAV_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
-    NAV_BINARY_DIR="${CMAKE_RUNTIME_OUTPUT_DIRECTORY}")
   add_test(NAME ${T_NAME}
     COMMAND ${PROJECT_SOURCE_DIR}/scripts/with-vcan $<TARGET_FILE:${T_NAME}>)
   # 77: neither the host, user-mode Linux nor a virtual machine (scripts/vcan-vm) can give vcan0
@@ -80,5 +76,26 @@ function(nav_use_test_pch target)
       target_compile_options(${target} PRIVATE
         -Wno-array-bounds -Wno-stringop-overflow -Wno-stringop-overread)
     endif()
+  endif()
+endfunction()
+
+# nav_precompile_headers(target [HEADER...]): the target's sources compile with a precompiled
+# header of the C++ library, Eigen and tl::expected, and the third-party HEADERs given (those
+# most of its sources include, e.g. <nlohmann/json.hpp>): parsed once per target instead of once
+# per source. For the libraries and navd, whose sources spend most of their time in headers:
+# the Quick start's build takes a fifth less time with it (docs/design-notes.md, Build and CI
+# times).
+function(nav_precompile_headers target)
+  target_precompile_headers(${target} PRIVATE
+    <algorithm> <array> <chrono> <cmath> <cstdint> <cstdio> <filesystem> <functional> <map>
+    <memory> <optional> <string> <string_view> <unordered_map> <utility> <variant> <vector>
+    <Eigen/Core> <Eigen/Geometry> <tl/expected.hpp> ${ARGN})
+endfunction()
+
+# nav_fuzz_coverage(target): with NAV_FUZZ, the target carries libFuzzer's coverage counters
+# (-fsanitize=fuzzer-no-link): a library a fuzz target reads its input with (cmake/NavFuzz.cmake).
+function(nav_fuzz_coverage target)
+  if(NAV_FUZZ)
+    target_compile_options(${target} PRIVATE -fsanitize=fuzzer-no-link)
   endif()
 endfunction()

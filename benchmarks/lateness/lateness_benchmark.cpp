@@ -17,6 +17,7 @@
 #include <CLI/CLI.hpp>
 
 #include "benchmark.hpp"
+#include "source_paths.hpp"
 
 int main(int argc, char** argv) {
   using namespace nav::benchmarks;
@@ -24,7 +25,7 @@ int main(int argc, char** argv) {
                "a sleep-paced serial writer and canplayer on the same traces."};
   app.require_subcommand(1);
   Common c;
-  c.navbench = (std::filesystem::path(NAV_BINARY_DIR) / "navbench").string();
+  c.navbench = (std::filesystem::path(nav::test_paths::binary_dir()) / "navbench").string();
   std::string out;
   const auto common = [&](CLI::App* sub) {
     sub->add_option("--pairs", c.pairs, "Pairs to run (default 3)")->check(CLI::Range(1, 100));
@@ -32,8 +33,8 @@ int main(int argc, char** argv) {
                                   "runs/lateness-<part>-<UTC time>)");
     sub->add_option("--navbench", c.navbench, "The navbench to measure (default the build's)");
   };
-  std::string scenario, serial_scenario = std::string(NAV_SOURCE_DIR) + "/scenarios/smoke.yaml";
-  std::string can_scenario = std::string(NAV_SOURCE_DIR) + "/scenarios/mixed-can-serial.yaml";
+  std::string scenario, serial_scenario = nav::test_paths::source_dir() + "/scenarios/smoke.yaml";
+  std::string can_scenario = nav::test_paths::source_dir() + "/scenarios/mixed-can-serial.yaml";
   double floor_seconds = 0.0;
   bool witness = false;
   auto* pairs = app.add_subcommand(

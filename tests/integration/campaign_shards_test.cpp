@@ -16,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "navbench_cli.hpp"
+#include "source_paths.hpp"
 
 namespace nav::testing {
 namespace {
@@ -32,7 +33,7 @@ class NavbenchCampaignShards : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     const char* path = std::getenv("PATH");
-    ::setenv("PATH", (std::string(NAV_BINARY_DIR) + ":" + (path ? path : "/usr/bin:/bin")).c_str(),
+    ::setenv("PATH", (nav::test_paths::binary_dir() + ":" + (path ? path : "/usr/bin:/bin")).c_str(),
              1);
   }
 };

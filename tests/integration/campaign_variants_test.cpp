@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "navbench_cli.hpp"
+#include "source_paths.hpp"
 
 namespace nav::testing {
 namespace {
@@ -64,7 +65,7 @@ TEST(NavbenchCampaignVariants, EachVariantRunsEverySeedAndIsComparedWithTheBasel
 
 TEST(NavbenchCampaignVariants, TheSameProgramTwiceShowsNoDifferenceAndPasses) {
   const auto dir = fresh_dir("campaign-variants-same");
-  const std::string navd = std::string(NAV_BINARY_DIR) + "/navd";
+  const std::string navd = nav::test_paths::binary_dir() + "/navd";
   const auto r = run_navbench({"campaign", source_path(kStraight), "--variant", "old=" + navd,
                                "--variant", "new=" + navd, "--seeds", "2", "-o", "c", "-q"},
                               dir);

@@ -41,13 +41,14 @@
 
 #include <gtest/gtest.h>
 
+#include "../unit/navd/navd_pty_harness.hpp"
+#include "can_log.hpp"
+#include "can_test_support.hpp"
 #include "nav/protocols/can_frame.hpp"
 #include "nav/protocols/candump_log.hpp"
 #include "nav/protocols/nmea2000.hpp"
 #include "nav/transport/can_socket.hpp"
-#include "../unit/navd/navd_pty_harness.hpp"
-#include "can_log.hpp"
-#include "can_test_support.hpp"
+#include "source_paths.hpp"
 
 namespace nav::testing {
 namespace {
@@ -153,7 +154,7 @@ struct ProcessResult {
 
 /// Runs `navbench args...` in `cwd` to its end (at most 60 s).
 ProcessResult run_navbench(const std::vector<std::string>& args, const fs::path& cwd) {
-  std::vector<std::string> argv{std::string(NAV_BINARY_DIR) + "/navbench"};
+  std::vector<std::string> argv{nav::test_paths::binary_dir() + "/navbench"};
   argv.insert(argv.end(), args.begin(), args.end());
   Child c = Child::spawn(argv, cwd, "navbench");
   ProcessResult r;
@@ -193,7 +194,7 @@ std::string log_line(double t_s, const std::string& iface, const CanFrame& f) {
 TEST(NavbenchCanRecord, RecordsCansendFramesAndCanplayerReplaysTheLog) {
   REQUIRE_VCAN_AND_PLAYER();
   const auto dir = fresh_dir("can-record");
-  Child rec = Child::spawn({std::string(NAV_BINARY_DIR) + "/navbench", "record", "--can", kIface,
+  Child rec = Child::spawn({nav::test_paths::binary_dir() + "/navbench", "record", "--can", kIface,
                             "--duration", "2.5", "--out", "rec.log"},
                            dir, "record");
   ASSERT_GT(rec.pid, 0);
@@ -281,7 +282,7 @@ TEST(NavbenchCanRecord, RecordsCansendFramesAndCanplayerReplaysTheLog) {
 TEST(NavbenchCanRecord, StopsCleanlyOnSigterm) {
   REQUIRE_VCAN_AND_PLAYER();
   const auto dir = fresh_dir("can-record-term");
-  Child rec = Child::spawn({std::string(NAV_BINARY_DIR) + "/navbench", "record", "--can", kIface,
+  Child rec = Child::spawn({nav::test_paths::binary_dir() + "/navbench", "record", "--can", kIface,
                             "-o", "rec.log"},
                            dir, "record");
   ASSERT_TRUE(rec.wait_for_output("until SIGINT/SIGTERM", 10.0)) << slurp(rec.err);

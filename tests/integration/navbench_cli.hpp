@@ -16,6 +16,8 @@
 
 #include <gtest/gtest.h>
 
+#include "source_paths.hpp"
+
 extern char** environ;
 
 namespace nav::testing {
@@ -46,7 +48,7 @@ inline std::filesystem::path fresh_dir(const std::string& name) {
 /// cwd/stderr.txt; returns its pid (-1 when it could not be started).
 inline pid_t start_navbench(const std::vector<std::string>& args,
                             const std::filesystem::path& cwd) {
-  const std::string exe = std::string(NAV_BINARY_DIR) + "/navbench";
+  const std::string exe = nav::test_paths::binary_dir() + "/navbench";
   const auto out_path = cwd / "stdout.txt";
   const auto err_path = cwd / "stderr.txt";
   posix_spawn_file_actions_t fa;
@@ -87,7 +89,7 @@ inline ProcessResult run_navbench(const std::vector<std::string>& args,
 }
 
 inline std::string source_path(const std::string& rel) {
-  return std::string(NAV_SOURCE_DIR) + "/" + rel;
+  return nav::test_paths::source_dir() + "/" + rel;
 }
 
 }  // namespace nav::testing

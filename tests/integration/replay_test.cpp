@@ -20,11 +20,12 @@
 #include <vector>
 
 #include "nav/bench/decode.hpp"
-#include "nav/transport/pty.hpp"
 #include "nav/protocols/microstrain_gx3.hpp"
 #include "nav/protocols/navd_solution.hpp"
 #include "nav/protocols/nmea0183.hpp"
+#include "nav/transport/pty.hpp"
 #include "navbench_cli.hpp"
+#include "source_paths.hpp"
 
 namespace nav::testing {
 namespace {
@@ -40,7 +41,7 @@ struct Child {
 
   static Child spawn(const std::vector<std::string>& args, const fs::path& cwd) {
     Child c;
-    const std::string exe = std::string(NAV_BINARY_DIR) + "/navbench";
+    const std::string exe = nav::test_paths::binary_dir() + "/navbench";
     c.out = cwd / "child-stdout.txt";
     c.err = cwd / "child-stderr.txt";
     posix_spawn_file_actions_t fa;

@@ -12,6 +12,7 @@
 #include <string>
 
 #include "navbench_cli.hpp"
+#include "source_paths.hpp"
 
 namespace nav::testing {
 namespace {
@@ -42,7 +43,7 @@ std::string policy_reporting_scenario(const std::string& mode) {
   if (at == std::string::npos) return {};
   text.replace(at, navd.size(),
                "command: [sh, -c, '" + wait + "chrt -p $$ >&2; exec " +
-                   std::string(NAV_BINARY_DIR) + "/navd \"$@\"', sh,");
+                   nav::test_paths::binary_dir() + "/navd \"$@\"', sh,");
   text = std::regex_replace(text, std::regex("mode: lockstep"), "mode: " + mode);
   // Lockstep starts when navd says it is ready; realtime waits the whole startup.
   text = std::regex_replace(text, std::regex("startup: 60 s"),
@@ -93,7 +94,7 @@ TEST(NavbenchStartup, ADutThatDoesNotSayItIsReadyGetsItsWholeStartup) {
   const auto dir = fresh_dir("not-ready");
   std::string text = slurp(source_path("tests/integration/scenarios/ready_lockstep.yaml"));
   text = std::regex_replace(text, std::regex(R"(command: \[navd,)"),
-                            "command: [env, -u, NOTIFY_SOCKET, " + std::string(NAV_BINARY_DIR) +
+                            "command: [env, -u, NOTIFY_SOCKET, " + nav::test_paths::binary_dir() +
                                 "/navd,");
   text = std::regex_replace(text, std::regex("startup: 60 s"), "startup: 1500 ms");
   ASSERT_NE(text.find("env, -u"), std::string::npos);

@@ -18,6 +18,7 @@
 #include "nav/common/time.hpp"
 #include "nav/transport/pty.hpp"
 #include "navbench_cli.hpp"
+#include "source_paths.hpp"
 
 namespace nav::testing {
 namespace {
@@ -97,7 +98,7 @@ TEST(NavbenchWitness, RefusesBadArgumentsWithExitTwoAndAMissingLineWithThree) {
 
 TEST(NavbenchWitness, RunWitnessAuditsEveryStreamingLine) {
   const auto dir = fresh_dir("witness-run");
-  const std::string scenario = std::string(NAV_SOURCE_DIR) +
+  const std::string scenario = nav::test_paths::source_dir() +
                                "/tests/integration/scenarios/witness.yaml";
   const auto r = run_navbench({"run", scenario, "--witness", "--out", "run", "--quiet"}, dir);
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
@@ -133,7 +134,7 @@ TEST(NavbenchWitness, RunWitnessAuditsEveryStreamingLine) {
 
 TEST(NavbenchWitness, RunWitnessRefusesLockstep) {
   const auto dir = fresh_dir("witness-lockstep");
-  const std::string scenario = std::string(NAV_SOURCE_DIR) +
+  const std::string scenario = nav::test_paths::source_dir() +
                                "/tests/integration/scenarios/witness.yaml";
   const auto r = run_navbench({"run", scenario, "--witness", "--mode", "lockstep", "--out", "run"}, dir);
   EXPECT_EQ(r.exit_code, 2);

@@ -26,7 +26,7 @@ Vec3 read_triad_scale(const Field& f) {
     const double s = r.signed_ratio();
     if (std::abs(s) >= kMaxTriadScaleFactor) {
       r.fail("expected a scale-factor error below 50 % in magnitude, got " +
-             quoted(r.node().Scalar()));
+             quote_value(r.node().Scalar()));
     }
     return s;
   };
@@ -50,7 +50,7 @@ Vec3 read_misalignment(const Field& f) {
       a.fail(
           "expected a misalignment angle of at most 5 deg in magnitude (the model is "
           "first order), got " +
-          quoted(a.node().Scalar()));
+          quote_value(a.node().Scalar()));
     }
     return rad;
   });
@@ -78,7 +78,7 @@ void read_triad_errors(const MapReader& m, Dimension dim, Dimension walk_dim,
     e.quantum = v->quantity(dim, Bound::kNonNegative);
     if (e.quantum > e.saturation) {
       v->fail("expected a quantization (LSB) no larger than the range " +
-              quoted(m.optional("range")->node().Scalar()) + ", got " + quoted(v->node().Scalar()));
+              quote_value(m.optional("range")->node().Scalar()) + ", got " + quote_value(v->node().Scalar()));
     }
   }
 }
@@ -117,7 +117,7 @@ double utc_seconds(const Field& f) {
   const int month_days[] = {31, leap ? 29 : 28, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31};
   if (!shaped || y < 1970 || mo < 1 || mo > 12 || d < 1 || d > month_days[mo - 1] || h > 23 ||
       h < 0 || mi < 0 || mi > 59 || !(sec >= 0.0 && sec < 60.0)) {
-    f.fail("expected " + expected + ", got " + quoted(t));
+    f.fail("expected " + expected + ", got " + quote_value(t));
   }
   const auto days = days_from_civil(y, static_cast<unsigned>(mo), static_cast<unsigned>(d));
   return static_cast<double>(days) * 86400.0 + h * 3600.0 + mi * 60.0 + sec;
@@ -135,7 +135,7 @@ emulators::Mount read_mount(const Field& f) {
       const double l = x.quantity(Dimension::kLength);
       if (std::abs(l) > kMaxLeverArmM) {
         x.fail("expected a lever arm of at most 100 m per axis (a device on its vehicle), got " +
-               quoted(x.node().Scalar()));
+               quote_value(x.node().Scalar()));
       }
       return l;
     });
@@ -148,7 +148,7 @@ emulators::Mount read_mount(const Field& f) {
       const double a = x->quantity(Dimension::kAngle);
       if (std::abs(a) > units::deg_to_rad(360.0) * (1.0 + 1e-12)) {
         x->fail("expected an angle of at most 360 deg in magnitude, got " +
-                quoted(x->node().Scalar()));
+                quote_value(x->node().Scalar()));
       }
       return a;
     };

@@ -18,8 +18,7 @@
 
 namespace nav::bench::detail {
 
-// scenario/yaml_reader.hpp (not included here: its templates must not meet std::quoted,
-// which <filesystem> and <iomanip> bring into files that use the registry).
+// scenario/yaml_reader.hpp (not included here: the registry's users need only these names).
 class Field;
 class MapReader;
 

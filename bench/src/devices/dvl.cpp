@@ -38,7 +38,7 @@ void read_dvl(const MapReader& m, emulators::DvlConfig& c) {
     c.beam_angle_rad = v->quantity(Dimension::kAngle, Bound::kPositive);
     if (c.beam_angle_rad >= units::deg_to_rad(60.0)) {
       v->fail("expected a beam angle from vertical below 60 deg, got " +
-              quoted(v->node().Scalar()));
+              quote_value(v->node().Scalar()));
     }
   }
   if (auto v = m.optional("max_altitude")) c.max_altitude_m = read_length_positive(*v);
@@ -62,7 +62,7 @@ void read_dvl(const MapReader& m, emulators::DvlConfig& c) {
       c.scale_factor = x->signed_ratio();
       if (std::abs(c.scale_factor) >= 0.5) {
         x->fail("expected a scale-factor error below 50 % in magnitude, got " +
-                quoted(x->node().Scalar()));
+                quote_value(x->node().Scalar()));
       }
     }
   }

@@ -56,7 +56,7 @@ void read_gps(const MapReader& m, const geodesy::Geodetic& datum, emulators::Gps
     const std::string t = v->text("a two-letter NMEA talker such as GP, GN or GL");
     if (t.size() != 2 || !std::isupper(static_cast<unsigned char>(t[0])) ||
         !std::isupper(static_cast<unsigned char>(t[1]))) {
-      v->fail("expected a two-letter NMEA talker such as GP, GN or GL, got " + quoted(t));
+      v->fail("expected a two-letter NMEA talker such as GP, GN or GL, got " + quote_value(t));
     }
     c.talker = t;
   }
@@ -74,7 +74,7 @@ void read_gps_extras(const MapReader& m, emulators::GpsConfig& c) {
       const std::string name = item.choice<std::string>(
           {{"GGA", "GGA"}, {"RMC", "RMC"}, {"VTG", "VTG"}, {"HDT", "HDT"}, {"ZDA", "ZDA"}});
       if (std::find(seen.begin(), seen.end(), name) != seen.end()) {
-        item.fail("sentence " + quoted(name) + " is listed twice");
+        item.fail("sentence " + quote_value(name) + " is listed twice");
       }
       seen.push_back(name);
     }

@@ -80,15 +80,15 @@ void resolve(DeviceSpec& d, const std::vector<std::string>& vehicles, std::size_
   if (it == vehicles.end()) {
     std::string names;
     for (std::size_t i = 0; i < vehicles.size(); ++i) {
-      names += (i == 0 ? "" : ", ") + quoted(vehicles[i]);
+      names += (i == 0 ? "" : ", ") + quote_value(vehicles[i]);
     }
-    s.observes_at->fail("no vehicle named " + quoted(s.observes) + " (the scenario's vehicles: " +
+    s.observes_at->fail("no vehicle named " + quote_value(s.observes) + " (the scenario's vehicles: " +
                         names + ")");
   }
   const auto index = static_cast<std::size_t>(it - vehicles.begin());
   if (index == own) {
     s.observes_at->fail("an iusbl observes another vehicle, not its own (" +
-                        quoted(s.observes) + ")");
+                        quote_value(s.observes) + ")");
   }
   s.observed = index;
 }

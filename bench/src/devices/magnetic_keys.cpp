@@ -33,7 +33,7 @@ Mat3 read_soft_iron(const Field& f) {
       const Field& x = row[static_cast<std::size_t>(j)];
       const std::string t = x.text("a plain number (soft iron is dimensionless)");
       const auto n = parse_number(t);
-      if (!n) x.fail("expected a plain number (soft iron is dimensionless), got " + quoted(t));
+      if (!n) x.fail("expected a plain number (soft iron is dimensionless), got " + quote_value(t));
       W(i, j) = *n;
     }
   }

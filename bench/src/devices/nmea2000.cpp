@@ -41,7 +41,7 @@ void read_n2k(const MapReader& m, const Scenario& s, emulators::Nmea2000Config& 
     const auto read_rate = [](const Field& r) {
       const double hz = r.quantity(Dimension::kFrequency, Bound::kNonNegative);
       if (hz > emulators::kMaxN2kRateHz) {
-        r.fail("expected a rate from 0 Hz (off) to 100 Hz, got " + quoted(r.node().Scalar()));
+        r.fail("expected a rate from 0 Hz (off) to 100 Hz, got " + quote_value(r.node().Scalar()));
       }
       return hz;
     };

@@ -1,18 +1,13 @@
 // SPDX-License-Identifier: MIT
 // Device kind `wheel-encoders`: a crawler's two wheel encoders on the vehicle's CAN bus, their
 // frames laid out by a DBC (loaded and checked against the codec when the scenario loads).
-//
-// The wheel encoder headers bring <filesystem> and with it std::quoted, which ADL would
-// prefer to detail::quoted for std::string arguments: this file keeps them to itself.
+#include <filesystem>
 #include <optional>
 
 #include "devices/device_keys.hpp"
 #include "devices/device_kind.hpp"
-#include "nav/common/units.hpp"
-// After every header that uses detail::quoted in a template (see above).
-#include <filesystem>
-
 #include "devices/wheel_encoders.hpp"
+#include "nav/common/units.hpp"
 #include "nav/emulators/wheel_encoder_emulator.hpp"
 #include "nav/protocols/dbc.hpp"
 #include "nav/protocols/wheel_encoder.hpp"
@@ -21,9 +16,6 @@ namespace nav::bench::detail {
 namespace {
 
 using namespace std::chrono_literals;
-
-/// detail::quoted for std::string (a non-template: preferred over std::quoted).
-std::string quoted(const std::string& s) { return detail::quoted(std::string_view(s)); }
 
 /// A `wheel-encoders` device's keys: the DBC (loaded and checked against the codec here),
 /// the drive geometry, slip and noise.
@@ -58,7 +50,7 @@ void read_wheels(const MapReader& m, const Scenario& s, Duration latency,
       const std::string t = x->text("a plain number >= 0 [1/sqrt(s)] such as 0.001");
       const auto n = parse_number(t);
       if (!n || *n < 0.0) {
-        x->fail("expected a plain number >= 0 [1/sqrt(s)] such as 0.001, got " + quoted(t));
+        x->fail("expected a plain number >= 0 [1/sqrt(s)] such as 0.001, got " + quote_value(t));
       }
       c.slip.walk_std = *n;
     }

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // The settings of a `wheel-encoders` device (DeviceSpec::settings), for its kind's file and
-// its tests. Brings <filesystem> (and std::quoted): include it after the scenario reader.
+// its tests.
 #pragma once
 
 #include <memory>

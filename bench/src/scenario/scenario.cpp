@@ -18,6 +18,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <limits>
 #include <map>
 #include <string_view>
@@ -43,7 +44,7 @@ using detail::join;
 using detail::LoadError;
 using detail::location;
 using detail::MapReader;
-using detail::quoted;
+using detail::quote_value;
 using detail::device_names;
 using detail::device_ref;
 using detail::find_device;
@@ -74,7 +75,7 @@ void read_bench(const Field& f, Scenario& s) {
     s.spin = v->duration(Bound::kNonNegative);
     if (s.spin > std::chrono::milliseconds(1)) {
       v->fail("expected a spin of at most 1 ms (it costs CPU at every write), got " +
-              quoted(v->node().Scalar()));
+              quote_value(v->node().Scalar()));
     }
   }
 }
@@ -85,7 +86,7 @@ void check_placeholders(const Field& arg, const std::string& text, const Scenari
   for (auto at = text.find("{scenario"); at != std::string::npos;
        at = text.find("{scenario", at + 1)) {
     if (text.compare(at, kDir.size(), kDir) != 0) {
-      arg.fail("unknown placeholder in " + quoted(text) +
+      arg.fail("unknown placeholder in " + quote_value(text) +
                " (expected {scenario_dir}: the scenario file's folder)");
     }
   }
@@ -93,7 +94,7 @@ void check_placeholders(const Field& arg, const std::string& text, const Scenari
   for (auto at = text.find(kOpen); at != std::string::npos; at = text.find(kOpen, at + 1)) {
     const auto close = text.find('}', at);
     if (close == std::string::npos) {
-      arg.fail("unterminated '{port:' in " + quoted(text) + " (expected {port:NAME})");
+      arg.fail("unterminated '{port:' in " + quote_value(text) + " (expected {port:NAME})");
     }
     const std::string name = text.substr(at + kOpen.size(), close - at - kOpen.size());
     if (name != "output" && !find_device(s, name)) {
@@ -149,7 +150,7 @@ void read_dut(const Field& f, Scenario& s) {
       dut.output_port = p->port();
       for (const auto& d : s.devices) {
         if (dut.output_port != "pty" && d.port == dut.output_port) {
-          p->fail("port " + d.port + " is already used by device " + quoted(d.name));
+          p->fail("port " + d.port + " is already used by device " + quote_value(d.name));
         }
       }
     }
@@ -167,7 +168,7 @@ void read_dut(const Field& f, Scenario& s) {
       kinds += (i + 1 == names.size() ? " or " : ", ") + names[i];
     }
     trigger.fail("the trigger must be a " + kinds + " (a device whose messages the DUT can "
-                 "name in its solutions); " + quoted(d->name) + " is a " +
+                 "name in its solutions); " + quote_value(d->name) + " is a " +
                  d->type);
   }
   if (auto v = m.optional("startup")) dut.startup = v->duration(Bound::kNonNegative);
@@ -197,7 +198,7 @@ void read_peers(const Field& f, Scenario& s) {
   auto claim = [&](const std::string& port, const std::string& owner, const Field& where) {
     if (port == "pty") return;
     const auto [p, fresh] = ports.emplace(port, owner);
-    if (!fresh) where.fail("port " + port + " is already used by " + quoted(p->second));
+    if (!fresh) where.fail("port " + port + " is already used by " + quote_value(p->second));
   };
   for (const auto& d : s.devices) claim(d.port, s.vehicle_name + "." + d.name, f);
   if (s.dut.output_port != "pty") ports.emplace(s.dut.output_port, s.vehicle_name + ".output");
@@ -236,7 +237,7 @@ void read_peers(const Field& f, Scenario& s) {
     const auto [it, fresh] = vehicles.emplace(tmp.vehicle_name, item.mark().line + 1);
     if (!fresh) {
       vehicle_name_field(vehicle).fail(
-          "duplicate vehicle name " + quoted(tmp.vehicle_name) +
+          "duplicate vehicle name " + quote_value(tmp.vehicle_name) +
           (it->second == 0 ? std::string(" (the primary vehicle's)")
                            : " (first at line " + std::to_string(it->second) + ")") +
           "; give each vehicle its own name");
@@ -292,7 +293,7 @@ double read_bit_rate(const Field& f) {
   errno = 0;
   const double v = t.empty() ? 0.0 : std::strtod(t.c_str(), &end);
   if (t.empty() || errno != 0 || end != t.c_str() + t.size() || !(v > 0.0) || !std::isfinite(v)) {
-    f.fail("expected " + expected + " (> 0), got " + quoted(f.node().Scalar()));
+    f.fail("expected " + expected + " (> 0), got " + quote_value(f.node().Scalar()));
   }
   return v;
 }
@@ -335,12 +336,12 @@ void read_labels(const Field& f, Scenario& s) {
     const std::string name = key.identifier();
     if (std::find(kReservedLabelNames.begin(), kReservedLabelNames.end(), name) !=
         kReservedLabelNames.end()) {
-      key.fail("label name " + quoted(name) +
+      key.fail("label name " + quote_value(name) +
                " is reserved (a column of campaign tables); choose another name");
     }
     const auto [it, fresh] = seen.emplace(name, kv.first.Mark().line + 1);
     if (!fresh) {
-      key.fail("duplicate label " + quoted(name) + " (first at line " +
+      key.fail("duplicate label " + quote_value(name) + " (first at line " +
                std::to_string(it->second) + ")");
     }
     const Field value = f.child(kv.first, kv.second);
@@ -349,7 +350,7 @@ void read_labels(const Field& f, Scenario& s) {
     const bool one_line = std::none_of(text.begin(), text.end(), [](char c) {
       return std::iscntrl(static_cast<unsigned char>(c)) != 0;
     });
-    if (text.empty() || !one_line) value.fail("expected " + expected + ", got " + quoted(text));
+    if (text.empty() || !one_line) value.fail("expected " + expected + ", got " + quote_value(text));
     s.labels.emplace_back(name, text);
   }
 }
@@ -452,13 +453,6 @@ Result<Scenario> load_scenario(const std::string& path) {
   }
 }
 
-}  // namespace nav::bench
-
-// <filesystem> brings std::quoted, which ADL would prefer to detail::quoted above: included
-// only here, after every use of quoted.
-#include <filesystem>
-
-namespace nav::bench {
 namespace {
 
 std::string folder_of(const std::string& file) {

@@ -27,7 +27,7 @@ double open_probability(const Field& f) {
   const double p = f.probability();
   if (p <= 0.0 || p >= 1.0) {
     f.fail("expected a probability between 0 and 1, both excluded (\"0.95\", \"95 %\"), got " +
-           quoted(f.node().Scalar()));
+           quote_value(f.node().Scalar()));
   }
   return p;
 }
@@ -43,7 +43,7 @@ CheckSpec run_check(const Field& f, const Scenario& s) {
       names += (names.empty() ? "" : ", ") + c.name;
     }
   }
-  f.fail("no check named " + quoted(name) + " in this scenario's checks" +
+  f.fail("no check named " + quote_value(name) + " in this scenario's checks" +
          (names.empty() ? std::string(" (it has none)") : " (" + names + ")"));
 }
 
@@ -89,7 +89,7 @@ CampaignCheckSpec read_campaign_check(const Field& item, const Scenario& s) {
       default:
         of.fail("a quantile is of a check that measures an error (horizontal_error, "
                 "vertical_error, attitude_error, endpoint_error, horizontal_error_at, "
-                "horizontal_error_rms); " + quoted(run.name) +
+                "horizontal_error_rms); " + quote_value(run.name) +
                 " is a " + check_kind_name(run.kind) + " check");
     }
     c.name = c.of + "_" + percentile_tag(c.quantile);
@@ -112,7 +112,7 @@ void read_campaign(const Field& f, Scenario& s) {
     const auto [it, fresh] = names.emplace(c.name, item.mark().line + 1);
     if (!fresh) {
       const Field where = item.peek("name") ? *item.peek("name") : *item.peek("kind");
-      where.fail("duplicate campaign check name " + quoted(c.name) + " (first at line " +
+      where.fail("duplicate campaign check name " + quote_value(c.name) + " (first at line " +
                  std::to_string(it->second) + "; add name: to tell them apart)");
     }
     s.campaign_checks.push_back(std::move(c));

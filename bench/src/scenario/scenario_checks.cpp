@@ -43,9 +43,9 @@ const DutSpec& dut_of(const std::string& vehicle, const Scenario& s, const Field
   for (const auto& p : s.peers) {
     if (p.vehicle_name == vehicle) return p.dut;
   }
-  std::string names = quoted(s.vehicle_name);
-  for (const auto& p : s.peers) names += ", " + quoted(p.vehicle_name);
-  at.fail("no vehicle named " + quoted(vehicle) + " (the scenario's vehicles: " + names +
+  std::string names = quote_value(s.vehicle_name);
+  for (const auto& p : s.peers) names += ", " + quote_value(p.vehicle_name);
+  at.fail("no vehicle named " + quote_value(vehicle) + " (the scenario's vehicles: " + names +
           "; or all)");
 }
 
@@ -89,7 +89,7 @@ CheckSpec read_check(const Field& item, const Scenario& s) {
       c.source = v->line("a measurement name as the DUT writes it in $PNVBINN", 64);
       if (!protocols::navd::valid_source_name(c.source)) {
         v->fail("expected a measurement name as the DUT writes it in $PNVBINN (1 to 16 of "
-                "[a-z0-9_-]), got " + quoted(c.source));
+                "[a-z0-9_-]), got " + quote_value(c.source));
       }
       c.name = c.source + "_innovation_consistency";
       std::replace(c.name.begin(), c.name.end(), '-', '_');
@@ -136,7 +136,7 @@ CheckSpec read_check(const Field& item, const Scenario& s) {
       }
       if (c.input != dut->trigger) {
         const Field at = *m.optional("input");
-        at.fail("the deadline input must be the DUT trigger " + quoted(dut->trigger) +
+        at.fail("the deadline input must be the DUT trigger " + quote_value(dut->trigger) +
                 " (latency is measured from the trigger's messages to the answers)");
       }
       c.max = to_seconds(m.required("max_latency").duration(Bound::kPositive));
@@ -182,7 +182,7 @@ void read_checks(const Field& f, Scenario& s) {
       const bool judges = c.vehicle == kAllVehicles || (c.vehicle.empty() && v == 0) ||
                           c.vehicle == vehicles[v];
       if (!judges) continue;
-      const std::string on = v == 0 ? "" : " of vehicle " + quoted(vehicles[v]);
+      const std::string on = v == 0 ? "" : " of vehicle " + quote_value(vehicles[v]);
       if (c.kind == CheckSpec::Kind::kDeadline) {
         if (deadline[v]) {
           where.fail("only one deadline check per vehicle" + on + " (a DUT has one trigger)");
@@ -191,7 +191,7 @@ void read_checks(const Field& f, Scenario& s) {
       }
       const auto [it, fresh] = names[v].emplace(c.name, item.mark().line + 1);
       if (!fresh) {
-        where.fail("duplicate check name " + quoted(c.name) + on + " (first at line " +
+        where.fail("duplicate check name " + quote_value(c.name) + on + " (first at line " +
                    std::to_string(it->second) + "; add name: to tell them apart)");
       }
     }

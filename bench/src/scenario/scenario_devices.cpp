@@ -129,7 +129,7 @@ void read_fault(const Field& item, Duration run, DeviceSpec& d) {
       for (const auto& [name, k] : stream_kinds) {
         if (t == name) {
           kind_field->fail("expected " + expected + " (for type " + d.type +
-                           "), got " + quoted(t) +
+                           "), got " + quote_value(t) +
                            ": a serial stream fault; CAN devices take CAN frame faults and "
                            "measurement faults");
         }
@@ -143,11 +143,11 @@ void read_fault(const Field& item, Duration run, DeviceSpec& d) {
           std::find(measurement_kinds.begin(), measurement_kinds.end(), k) ==
               measurement_kinds.end()) {
         kind_field->fail("expected " + expected + " (for type " + d.type +
-                         "), got " + quoted(t) + ", a fault of type " + owner + " only");
+                         "), got " + quote_value(t) + ", a fault of type " + owner + " only");
       }
     }
     if (std::find(names.begin(), names.end(), t) == names.end()) {
-      kind_field->fail("expected " + expected + ", got " + quoted(t));
+      kind_field->fail("expected " + expected + ", got " + quote_value(t));
     }
   }
   const AnyFaultKind kind = kind_field->choice(kinds);
@@ -197,7 +197,7 @@ void read_fault(const Field& item, Duration run, DeviceSpec& d) {
         }
         if (!found) {
           q.fail("expected " + expected + " (for type " + d.type + "), got " +
-                 quoted(t));
+                 quote_value(t));
         }
         if (!m.has("bias") && !m.has("scale")) {
           kind_field->fail("a wrong fault needs 'bias', 'scale' or both");
@@ -245,7 +245,7 @@ void read_fault(const Field& item, Duration run, DeviceSpec& d) {
   if (auto v = m.optional("factor")) {
     const std::string t = v->text("a factor >= 1 such as 4");
     const auto n = parse_number(t);
-    if (!n || *n < 1.0) v->fail("expected a factor >= 1 such as 4, got " + quoted(t));
+    if (!n || *n < 1.0) v->fail("expected a factor >= 1 such as 4, got " + quote_value(t));
     f.factor = *n;
   }
   if (f.kind == Kind::kDelayed) f.delay = m.required("delay").duration(Bound::kPositive);
@@ -271,7 +271,7 @@ std::uint32_t read_device_bus(const MapReader& m, const Field& type_field, const
   for (std::uint32_t b = 0; b < s.can_buses.size(); ++b) {
     if (s.can_buses[b].interface == iface) return b;
   }
-  v->fail("no CAN bus " + quoted(iface) + " on the vehicle (buses: " + names + ")");
+  v->fail("no CAN bus " + quote_value(iface) + " on the vehicle (buses: " + names + ")");
 }
 
 }  // namespace
@@ -357,14 +357,14 @@ void read_devices(const Field& f, Scenario& s) {
     }
     const auto [it, fresh] = names.emplace(d.name, item.mark().line + 1);
     if (!fresh) {
-      where.fail("duplicate device name " + quoted(d.name) + " (first at line " +
+      where.fail("duplicate device name " + quote_value(d.name) + " (first at line " +
                  std::to_string(it->second) + "; give each device its own name)");
     }
     if (d.port != "pty") {
       const auto [p, unused] = ports.emplace(d.port, d.name);
       if (!unused) {
         item.peek("port")->fail("port " + d.port + " is already used by device " +
-                                quoted(p->second));
+                                quote_value(p->second));
       }
     }
     s.devices.push_back(std::move(d));

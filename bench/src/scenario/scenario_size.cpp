@@ -36,7 +36,7 @@ void check_size(const Field& duration, const Scenario& s) {
   const double seconds = to_seconds(s.duration);
   if (seconds > kMaxDurationS) {
     duration.fail("expected a duration of at most 24 h (86400 s), got " +
-                  quoted(duration.node().Scalar()));
+                  quote_value(duration.node().Scalar()));
   }
   std::string rates;
   double hz = 0.0;

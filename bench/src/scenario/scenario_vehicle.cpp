@@ -36,7 +36,7 @@ void read_motion(const Field& f, emulators::AttitudeMotion& motion) {
   auto amplitude = [](const Field& v) {
     const double a = v.quantity(Dimension::kAngle, Bound::kNonNegative);
     if (a >= units::deg_to_rad(90.0)) {
-      v.fail("expected an amplitude below 90 deg, got " + quoted(v.node().Scalar()));
+      v.fail("expected an amplitude below 90 deg, got " + quote_value(v.node().Scalar()));
     }
     return a;
   };
@@ -64,8 +64,8 @@ emulators::BandSpec read_band(const Field& f, emulators::BandSpec band, Dimensio
     band.f_hi_hz = edges[1].quantity(Dimension::kFrequency, Bound::kPositive);
     if (band.f_hi_hz < band.f_lo_hz) {
       edges[1].fail("expected the upper edge of the band at or above the lower (" +
-                    quoted(edges[0].node().Scalar()) + "), got " +
-                    quoted(edges[1].node().Scalar()));
+                    quote_value(edges[0].node().Scalar()) + "), got " +
+                    quote_value(edges[1].node().Scalar()));
     }
   }
   if (auto v = m.optional("components")) band.components = v->integer<std::size_t>(1, 1000);
@@ -96,7 +96,7 @@ emulators::WindSpec read_wind(const Field& f) {
     w.drift_factor = v->ratio();
     if (w.drift_factor > 0.1) {
       v->fail("expected a drift factor from 0 to 10 % of the wind speed, got " +
-              quoted(v->node().Scalar()));
+              quote_value(v->node().Scalar()));
     }
   }
   return w;
@@ -132,7 +132,7 @@ emulators::SeaSpec read_sea(const Field& f) {
     const std::string expected = "a JONSWAP peak enhancement from 1 (Pierson-Moskowitz) to 7";
     const auto g = parse_number(v->text(expected));
     if (!g || !(*g >= 1.0 && *g <= 7.0)) {
-      v->fail("expected " + expected + " such as 3.3, got " + quoted(v->node().Scalar()));
+      v->fail("expected " + expected + " such as 3.3, got " + quote_value(v->node().Scalar()));
     }
     s.spectrum.gamma = *g;
   }
@@ -230,11 +230,11 @@ double read_can_bitrate(const Field& f) {
   }
   while (!t.empty() && t.back() == ' ') t.pop_back();
   const auto n = scale > 0.0 ? parse_number(t) : std::nullopt;
-  if (!n) f.fail("expected " + expected + ", got " + quoted(f.node().Scalar()));
+  if (!n) f.fail("expected " + expected + ", got " + quote_value(f.node().Scalar()));
   const double bps = *n * scale;
   if (!(bps >= 10e3 && bps <= 1e6)) {
     f.fail("expected a classic CAN bit rate from 10 kbit/s to 1 Mbit/s, got " +
-           quoted(f.node().Scalar()));
+           quote_value(f.node().Scalar()));
   }
   return bps;
 }
@@ -252,7 +252,7 @@ CanBusSpec read_can(const Field& f, Duration run) {
                   });
   if (!ok) {
     i.fail("expected a CAN interface name such as vcan0 or can0 (at most 15 characters), got " +
-           quoted(c.interface));
+           quote_value(c.interface));
   }
   if (auto v = m.optional("bitrate")) c.bitrate_bps = read_can_bitrate(*v);
   if (auto v = m.optional("faults")) c.faults = read_can_bus_faults(*v, run);
@@ -329,7 +329,7 @@ void read_vehicle(const Field& f, Scenario& s) {
         s.can_buses.push_back(read_can(bus, s.duration));
         for (std::size_t b = 0; b + 1 < s.can_buses.size(); ++b) {
           if (s.can_buses[b].interface == s.can_buses.back().interface) {
-            bus.fail("CAN interface " + quoted(s.can_buses.back().interface) +
+            bus.fail("CAN interface " + quote_value(s.can_buses.back().interface) +
                      " is already a bus of this vehicle");
           }
         }
@@ -370,7 +370,7 @@ std::string device_names(const Scenario& s) {
 std::string device_ref(const Field& f, const Scenario& s) {
   const std::string name = f.text("a device name (" + device_names(s) + ")");
   if (!find_device(s, name)) {
-    f.fail(quoted(name) + " names no device (devices: " + device_names(s) + ")");
+    f.fail(quote_value(name) + " names no device (devices: " + device_names(s) + ")");
   }
   return name;
 }

@@ -42,7 +42,7 @@ std::string describe_bounded(Dimension dim, Bound b) {
 
 }  // namespace
 
-std::string quoted(std::string_view s) {
+std::string quote_value(std::string_view s) {
   return "'" + escape_controls(s) + "'";
 }
 
@@ -59,7 +59,7 @@ std::string what_is(const YAML::Node& n) {
   switch (n.Type()) {
     case YAML::NodeType::Map: return "a map";
     case YAML::NodeType::Sequence: return "a list";
-    case YAML::NodeType::Scalar: return quoted(n.Scalar());
+    case YAML::NodeType::Scalar: return quote_value(n.Scalar());
     default: return "nothing";
   }
 }
@@ -91,7 +91,7 @@ double Field::quantity(Dimension dim, Bound bound) const {
   const auto v = parse_quantity(t, dim);
   if (!v) fail(v.error().detail);
   if (!satisfies(*v, bound)) {
-    fail("expected " + describe_bounded(dim, bound) + ", got " + quoted(t));
+    fail("expected " + describe_bounded(dim, bound) + ", got " + quote_value(t));
   }
   return *v;
 }
@@ -101,7 +101,7 @@ Duration Field::duration(Bound bound) const {
   const auto d = parse_duration(t);
   if (!d) fail(d.error().detail);
   if (!satisfies(static_cast<double>(d->count()), bound)) {
-    fail("expected " + describe_bounded(Dimension::kTime, bound) + ", got " + quoted(t));
+    fail("expected " + describe_bounded(Dimension::kTime, bound) + ", got " + quote_value(t));
   }
   return *d;
 }
@@ -110,7 +110,7 @@ double Field::rate() const {
   const double hz = quantity(Dimension::kFrequency, Bound::kPositive);
   if (hz > kMaxRateHz) {
     fail("expected a frequency such as '100 Hz' of at most 1000 Hz, got " +
-         quoted(value_.Scalar()));
+         quote_value(value_.Scalar()));
   }
   return hz;
 }
@@ -119,7 +119,7 @@ double Field::ratio() const {
   const std::string t = text("a ratio such as '2 %' or 0.02");
   const auto v = parse_ratio(t);
   if (!v) fail(v.error().detail);
-  if (*v < 0.0) fail("expected a non-negative ratio such as '2 %' or 0.02, got " + quoted(t));
+  if (*v < 0.0) fail("expected a non-negative ratio such as '2 %' or 0.02, got " + quote_value(t));
   return *v;
 }
 
@@ -134,7 +134,7 @@ double Field::probability() const {
   const std::string t = text("a probability from 0 to 1 such as 0.3 or '30 %'");
   const auto v = parse_ratio(t);
   if (!v || *v < 0.0 || *v > 1.0) {
-    fail("expected a probability from 0 to 1 such as 0.3 or '30 %', got " + quoted(t));
+    fail("expected a probability from 0 to 1 such as 0.3 or '30 %', got " + quote_value(t));
   }
   return *v;
 }
@@ -143,7 +143,7 @@ bool Field::boolean() const {
   const std::string t = text("true or false");
   if (t == "true") return true;
   if (t == "false") return false;
-  fail("expected true or false, got " + quoted(t));
+  fail("expected true or false, got " + quote_value(t));
 }
 
 double Field::degrees(std::string_view what, double limit_deg) const {
@@ -159,7 +159,7 @@ double Field::degrees(std::string_view what, double limit_deg) const {
     rad = *q;
   }
   if (!rad || std::abs(*rad) > units::deg_to_rad(limit_deg) * (1.0 + 1e-12)) {
-    fail("expected " + expected + ", got " + quoted(t));
+    fail("expected " + expected + ", got " + quote_value(t));
   }
   return *rad;
 }
@@ -184,7 +184,7 @@ std::string Field::identifier() const {
   const bool ok = !t.empty() && std::all_of(t.begin(), t.end(), [](char c) {
     return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '.' || c == '-';
   });
-  if (!ok) fail("expected a name made of letters, digits, '_', '.' and '-', got " + quoted(t));
+  if (!ok) fail("expected a name made of letters, digits, '_', '.' and '-', got " + quote_value(t));
   return t;
 }
 
@@ -192,7 +192,7 @@ std::string Field::port() const {
   const std::string expected = "'pty' or an absolute device path such as /dev/ttyUSB0";
   const std::string t = text(expected);
   if (t != "pty" && (t.size() < 2 || t.front() != '/')) {
-    fail("expected " + expected + ", got " + quoted(t));
+    fail("expected " + expected + ", got " + quote_value(t));
   }
   return t;
 }
@@ -207,7 +207,7 @@ int Field::baud() const {
   const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
   if (ec != std::errc{} || end != t.data() + t.size() ||
       std::find(bauds.begin(), bauds.end(), v) == bauds.end()) {
-    fail("expected " + expected + ", got " + quoted(t));
+    fail("expected " + expected + ", got " + quote_value(t));
   }
   return v;
 }
@@ -252,11 +252,11 @@ MapReader::MapReader(const Field& map, std::vector<std::string> allowed)
     if (!kv.first.IsScalar()) key.fail("expected a key name, got " + what_is(kv.first));
     const std::string& name = kv.first.Scalar();
     if (std::find(allowed_.begin(), allowed_.end(), name) == allowed_.end()) {
-      key.fail("unknown key " + quoted(name) + " (allowed: " + join(allowed_) + ")");
+      key.fail("unknown key " + quote_value(name) + " (allowed: " + join(allowed_) + ")");
     }
     const auto [it, fresh] = seen.emplace(name, kv.first.Mark().line + 1);
     if (!fresh) {
-      key.fail("duplicate key " + quoted(name) + " (first at line " + std::to_string(it->second) +
+      key.fail("duplicate key " + quote_value(name) + " (first at line " + std::to_string(it->second) +
                ")");
     }
   }
@@ -264,7 +264,7 @@ MapReader::MapReader(const Field& map, std::vector<std::string> allowed)
 
 Field MapReader::required(std::string_view key) const {
   if (auto f = map_.peek(key)) return *f;
-  map_.fail("missing required key " + quoted(key));
+  map_.fail("missing required key " + quote_value(key));
 }
 
 }  // namespace nav::bench::detail

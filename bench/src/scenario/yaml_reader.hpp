@@ -34,7 +34,7 @@ struct LoadError {
 };
 
 /// "'text'" (nav::escape_controls()), for naming a value in a message.
-std::string quoted(std::string_view s);
+std::string quote_value(std::string_view s);
 
 /// The items separated by sep: "a, b, c".
 std::string join(const std::vector<std::string>& items, std::string_view sep = ", ");
@@ -84,7 +84,7 @@ class Field {
     Int v{};
     const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
     if (ec != std::errc{} || end != t.data() + t.size() || v < lo || v > hi) {
-      fail("expected " + expected + ", got " + quoted(t));
+      fail("expected " + expected + ", got " + quote_value(t));
     }
     return v;
   }
@@ -122,7 +122,7 @@ class Field {
     for (const auto& [name, value] : options) {
       if (name == t) return value;
     }
-    fail("expected " + expected + ", got " + quoted(t));
+    fail("expected " + expected + ", got " + quote_value(t));
   }
 
   /// "pty" or an absolute device path.

@@ -9,6 +9,7 @@
 #include "can_input.hpp"
 #include "fuzz_support.hpp"
 #include "nav/protocols/wheel_encoder.hpp"
+#include "source_paths.hpp"
 
 namespace {
 
@@ -17,7 +18,7 @@ namespace wheel = nav::protocols::wheel_encoder;
 
 const dbc::Database& crawler() {
   static const dbc::Database db = [] {
-    auto loaded = dbc::load(std::string(NAV_SOURCE_DIR) + "/fixtures/crawler.dbc");
+    auto loaded = dbc::load(nav::test_paths::source_dir() + "/fixtures/crawler.dbc");
     NAV_ENSURE(loaded.has_value(), "fixtures/crawler.dbc does not load");
     return *loaded;
   }();

@@ -11,6 +11,7 @@
 #include "nav/bench/scenario.hpp"
 #include "nav/emulators/truth.hpp"
 #include "run/device_streams.hpp"
+#include "source_paths.hpp"
 
 namespace nav::bench {
 namespace {
@@ -108,7 +109,7 @@ TEST(CanBuses, EveryFrameIsOnItsDevicesBusAndTheBusesInterleaveByDueTime) {
 }
 
 TEST(CanBuses, TheStressScenarioHas16SerialDevicesTwoBusesAndAbout2kHz) {
-  const auto s = load_scenario(std::string(NAV_SOURCE_DIR) + "/scenarios/stress.yaml");
+  const auto s = load_scenario(nav::test_paths::source_dir() + "/scenarios/stress.yaml");
   ASSERT_TRUE(s) << s.error().detail;
   EXPECT_EQ(s->duration, std::chrono::minutes(10));
   ASSERT_EQ(s->can_buses.size(), 2u);

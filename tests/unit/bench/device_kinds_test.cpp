@@ -17,6 +17,7 @@
 #include "nav/protocols/dbc.hpp"
 #include "nav/protocols/nmea2000.hpp"
 #include "nav/protocols/wheel_encoder.hpp"
+#include "source_paths.hpp"
 
 namespace nav::bench::detail {
 namespace {
@@ -191,7 +192,7 @@ TEST(DeviceKinds, Nmea2000TriggerTagIsPgnAndSidOfItsSingleFramesWithASid) {
 
 TEST(DeviceKinds, WheelEncoderTriggerTagIsIdentifierAndCounter) {
   namespace we = protocols::wheel_encoder;
-  auto db = protocols::dbc::load(std::string(NAV_SOURCE_DIR) + "/fixtures/crawler.dbc");
+  auto db = protocols::dbc::load(nav::test_paths::source_dir() + "/fixtures/crawler.dbc");
   ASSERT_TRUE(db.has_value()) << db.error().detail;
   auto codec = we::WheelEncoderCodec::from_database(*db);
   ASSERT_TRUE(codec.has_value()) << codec.error().detail;

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "nav/bench/scenario.hpp"
+#include "source_paths.hpp"
 
 namespace nav::bench {
 namespace {
@@ -120,7 +121,7 @@ TEST(ScenarioCanFaults, MalformedCanFaultsAreRefusedWhereTheyAre) {
 }
 
 TEST(ScenarioCanFaults, WheelEncodersTakeCanFaultsOnly) {
-  const std::string dbc = std::string(NAV_SOURCE_DIR) + "/fixtures/crawler.dbc";
+  const std::string dbc = nav::test_paths::source_dir() + "/fixtures/crawler.dbc";
   const auto ok = load_with("wheels", "", "      faults:\n        - {kind: frame_loss, from: 1 s, "
                                            "to: 2 s}\n    - {name: wheels, type: wheel-encoders, "
                                            "dbc: " + dbc + ", faults: [{kind: corrupted, from: "

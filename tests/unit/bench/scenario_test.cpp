@@ -19,6 +19,7 @@
 #include "nav/emulators/keller_emulator.hpp"
 #include "nav/emulators/nmea2000_emulator.hpp"
 #include "nav/emulators/usbl_emulator.hpp"
+#include "source_paths.hpp"
 #include "temp_file.hpp"
 
 namespace nav::bench {
@@ -32,7 +33,7 @@ constexpr double kPi = std::numbers::pi;
 constexpr double kDeg = kPi / 180.0;
 constexpr double kMg = 9.80665e-3;
 
-const std::string kSourceDir = NAV_SOURCE_DIR;
+const std::string kSourceDir = nav::test_paths::source_dir();
 
 /// Writes text to a fresh file under the test temp dir and returns its path.
 std::string write_temp(const std::string& name, const std::string& text) {

@@ -15,6 +15,7 @@
 
 #include "emulator_test_support.hpp"
 #include "nav/protocols/dbc.hpp"
+#include "source_paths.hpp"
 
 namespace nav::emulators {
 namespace {
@@ -26,7 +27,7 @@ namespace we = protocols::wheel_encoder;
 constexpr std::uint64_t kSeed = 11;
 constexpr double kCpr = 256.0;  ///< fixtures/crawler.dbc EncoderCountsPerRev [count/rev]
 
-std::string crawler_path() { return std::string(NAV_SOURCE_DIR) + "/fixtures/crawler.dbc"; }
+std::string crawler_path() { return nav::test_paths::source_dir() + "/fixtures/crawler.dbc"; }
 
 we::WheelEncoderCodec crawler_codec() {
   auto db = protocols::dbc::load(crawler_path());

@@ -7,6 +7,7 @@
 // /usr/bin/python3 with python3-pywt; CMake finds it). Without it the test fails, it does not
 // skip: run scripts/setup.
 #include "nav/estimator/dwt.hpp"
+#include "source_paths.hpp"
 
 #include <gtest/gtest.h>
 
@@ -121,7 +122,7 @@ class PywtReference {
       }
     }
     const std::string script =
-        std::string(NAV_SOURCE_DIR) + "/tests/unit/estimator/reference/pywt_vectors.py";
+        nav::test_paths::source_dir() + "/tests/unit/estimator/reference/pywt_vectors.py";
     const std::string cmd = "'" + python + "' '" + script + "' '" + in.string() + "' '" +
                             out.string() + "' 2>&1";
     std::string said;

@@ -20,6 +20,7 @@
 #include "nav/protocols/dbc.hpp"
 #include "nav/protocols/nmea2000.hpp"
 #include "nav/protocols/wheel_encoder.hpp"
+#include "source_paths.hpp"
 
 namespace nav::dut {
 namespace {
@@ -29,7 +30,7 @@ namespace dbc = protocols::dbc;
 namespace n2k = protocols::n2k;
 namespace wheel = protocols::wheel_encoder;
 
-std::string crawler_path() { return std::string(NAV_SOURCE_DIR) + "/fixtures/crawler.dbc"; }
+std::string crawler_path() { return nav::test_paths::source_dir() + "/fixtures/crawler.dbc"; }
 
 std::string crawler_text() {
   std::ifstream f(crawler_path());

@@ -32,13 +32,14 @@
 
 #include <gtest/gtest.h>
 
+#include "can_test_support.hpp"
 #include "nav/protocols/can_frame.hpp"
 #include "nav/protocols/dbc.hpp"
 #include "nav/protocols/nmea2000.hpp"
 #include "nav/protocols/wheel_encoder.hpp"
 #include "nav/transport/can_socket.hpp"
-#include "can_test_support.hpp"
 #include "navd_pty_harness.hpp"
+#include "source_paths.hpp"
 
 namespace nav::testing {
 namespace {
@@ -52,7 +53,7 @@ using transport::CanSocket;
 constexpr const char* kIface = "vcan0";
 constexpr double kLatDeg = 36.3833;
 
-std::string crawler_dbc() { return std::string(NAV_SOURCE_DIR) + "/fixtures/crawler.dbc"; }
+std::string crawler_dbc() { return nav::test_paths::source_dir() + "/fixtures/crawler.dbc"; }
 
 using test_support::program_on_path;
 using test_support::receive_frames;
@@ -240,7 +241,7 @@ TEST(NavdCanVcan, AnInterfaceThatCannotBeOpenedIsOneLineAndExit3) {
   const auto dir = std::filesystem::path(::testing::TempDir()) /
                    ("navd-can-noif-" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
-  const std::string navd = std::string(NAV_BINARY_DIR) + "/navd";
+  const std::string navd = nav::test_paths::binary_dir() + "/navd";
   const int status = run_program({navd, "--ahrs", ahrs.path, "--output", output.path, "--can",
                                   "nosuchcan0", "--dbc", crawler_dbc()},
                                  dir / "stderr.txt");
@@ -264,7 +265,7 @@ TEST(NavdCanVcan, ADbcThatDisagreesWithTheCodeIsExit2) {
   ASSERT_NE(at, std::string::npos);
   text.replace(at, from.size(), "SG_ WheelSpeed : 32|16@1- (0.001,0) [-32.768|32.767] \"rpm\"");
   std::ofstream(dir / "bad.dbc") << text;
-  const std::string navd = std::string(NAV_BINARY_DIR) + "/navd";
+  const std::string navd = nav::test_paths::binary_dir() + "/navd";
   const int status = run_program({navd, "--ahrs", ahrs.path, "--output", output.path, "--can",
                                   kIface, "--dbc", (dir / "bad.dbc").string()},
                                  dir / "stderr.txt");

@@ -11,6 +11,8 @@
 #include <sstream>
 #include <string>
 
+#include "source_paths.hpp"
+
 namespace {
 
 struct Outcome {
@@ -26,7 +28,7 @@ Outcome run_navd(const std::string& args, const std::string& config_text) {
   const std::string config = dir + "/" + name + ".yaml";
   const std::string err = dir + "/" + name + ".err";
   std::ofstream(config) << config_text;
-  const std::string cmd = std::string(NAV_BINARY_DIR) + "/navd --output /nonexistent/out --config " +
+  const std::string cmd = nav::test_paths::binary_dir() + "/navd --output /nonexistent/out --config " +
                           config + " " + args + " 2>" + err;
   const int status = std::system(cmd.c_str());
   Outcome o;

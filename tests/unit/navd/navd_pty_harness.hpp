@@ -32,6 +32,7 @@
 #include "nav/protocols/microstrain_gx3.hpp"
 #include "nav/protocols/navd_solution.hpp"
 #include "nav/protocols/nmea0183.hpp"
+#include "source_paths.hpp"
 
 extern char** environ;
 
@@ -239,7 +240,7 @@ class NavdProcess {
   void remove_dir() const { std::filesystem::remove_all(dir_); }
 
  private:
-  std::string exe_ = std::string(NAV_BINARY_DIR) + "/navd";
+  std::string exe_ = nav::test_paths::binary_dir() + "/navd";
   std::filesystem::path dir_;
   pid_t pid_ = -1;
 };

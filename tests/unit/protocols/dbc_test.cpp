@@ -14,6 +14,7 @@
 #include <string>
 
 #include "nav/protocols/wheel_encoder.hpp"
+#include "source_paths.hpp"
 
 namespace nav::protocols::dbc {
 namespace {
@@ -402,7 +403,7 @@ TEST(DbcCodec, MultiplexedSignalsFollowTheMultiplexor) {
 
 namespace we = nav::protocols::wheel_encoder;
 
-std::string crawler_path() { return std::string(NAV_SOURCE_DIR) + "/fixtures/crawler.dbc"; }
+std::string crawler_path() { return nav::test_paths::source_dir() + "/fixtures/crawler.dbc"; }
 
 std::string crawler_text() {
   std::ifstream in(crawler_path(), std::ios::binary);

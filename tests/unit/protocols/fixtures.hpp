@@ -14,14 +14,16 @@
 #include <string>
 #include <vector>
 
+#include "source_paths.hpp"
+
 namespace nav::protocols::test_support {
 
-/// $NAV_FIXTURES_EXTERNAL if set, else NAV_SOURCE_DIR/../shared/fixtures-external.
+/// $NAV_FIXTURES_EXTERNAL if set, else the checkout/../shared/fixtures-external.
 inline std::filesystem::path fixtures_external_dir() {
   if (const char* env = std::getenv("NAV_FIXTURES_EXTERNAL"); env != nullptr && *env != '\0') {
     return std::filesystem::path(env);
   }
-  return std::filesystem::path(NAV_SOURCE_DIR) / ".." / "shared" / "fixtures-external";
+  return std::filesystem::path(nav::test_paths::source_dir()) / ".." / "shared" / "fixtures-external";
 }
 
 /// Whole file as bytes; empty when it cannot be read.

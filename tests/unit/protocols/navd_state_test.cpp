@@ -24,6 +24,7 @@
 #include <string>
 
 #include "nav/common/ensure.hpp"
+#include "source_paths.hpp"
 #include "stream_drain.hpp"
 
 namespace nav::protocols::navd_state {
@@ -121,7 +122,7 @@ void expect_symmetric_psd(const Covariance& P) {
 
 /// The bytes of the hex code block that follows `marker` in docs/wire-formats.md.
 Bytes doc_hex_after(const std::string& marker) {
-  std::ifstream in(std::string(NAV_SOURCE_DIR) + "/docs/wire-formats.md");
+  std::ifstream in(nav::test_paths::source_dir() + "/docs/wire-formats.md");
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   const std::size_t open = text.find("```\n", text.find(marker));
   if (text.find(marker) == std::string::npos || open == std::string::npos) return {};

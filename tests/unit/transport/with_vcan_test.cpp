@@ -26,6 +26,8 @@
 
 #include <gtest/gtest.h>
 
+#include "source_paths.hpp"
+
 extern char** environ;
 
 namespace nav::testing {
@@ -33,7 +35,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const std::string kScript = std::string(NAV_SOURCE_DIR) + "/scripts/with-vcan";
+const std::string kScript = nav::test_paths::source_dir() + "/scripts/with-vcan";
 
 bool running_in_ci() {
   const char* ci = std::getenv("CI");
