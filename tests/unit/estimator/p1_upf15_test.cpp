@@ -37,7 +37,6 @@ using testing::StadiumRun;
 using testing::Truth;
 
 constexpr double kDt = StadiumRun::kDt;
-constexpr int kGpsEvery = StadiumRun::kGpsEvery;
 constexpr double kSpeed = StadiumRun::kSpeed;
 
 P1Params params_with(int particles, std::uint64_t filter_seed = 1) {
